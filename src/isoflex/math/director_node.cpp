@@ -1,0 +1,79 @@
+#include "isoflex/math/director_node.hpp"
+
+#include <cmath>
+
+#include "isoflex/math/rotation.hpp"
+
+namespace isoflex::director_node {
+
+Mat<3, 2> tangent_basis(const Vec3& d) {
+  const Vec3 n = d.normalized();
+  Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 d1 = (a - a.dot(n) * n).normalized();
+  Mat<3, 2> B;
+  B.col(0) = d1;
+  B.col(1) = n.cross(d1);
+  return B;
+}
+
+double constraint(const Q& q) { return 0.5 * (q.tail<3>().squaredNorm() - 1.0); }
+
+Mat<1, 6> jacobian(const Q& q) {
+  Mat<1, 6> G = Mat<1, 6>::Zero();
+  G.rightCols<3>() = q.tail<3>().transpose();
+  return G;
+}
+
+Mat<6, 5> null_space(const Mat<3, 2>& basis) {
+  Mat<6, 5> P = Mat<6, 5>::Zero();
+  P.topLeftCorner<3, 3>().setIdentity();
+  P.bottomRightCorner<3, 2>() = basis;
+  return P;
+}
+
+Mat<6, 5> discrete_null_space(const Q& qn, const Mat<3, 2>& basis_n, const Q& qn1) {
+  const Vec3 dn = qn.tail<3>();
+  const Vec3 dm = 0.5 * (dn + qn1.tail<3>());
+  Mat<3, 2> t;
+  for (int k = 0; k < 2; ++k) t.col(k) = basis_n.col(k) - basis_n.col(k).dot(dm) / dn.dot(dm) * dn;
+  return null_space(t);
+}
+
+namespace {
+// exp_d(v) = cos|v| d + sin|v|/|v| v (54), with its Jacobian w.r.t. v.
+Vec3 sphere_exp(const Vec3& d, const Vec3& v, Mat3* J) {
+  const double a = v.norm();
+  const double s = a < 1e-4 ? 1.0 - a * a / 6.0 : std::sin(a) / a;
+  if (J) {
+    const double c = a < 1e-3 ? -1.0 / 3.0 + a * a / 30.0 : (a * std::cos(a) - std::sin(a)) / (a * a * a);
+    *J = -s * d * v.transpose() + s * Mat3::Identity() + c * v * v.transpose();
+  }
+  return std::cos(a) * d + s * v;
+}
+}  // namespace
+
+Q update(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u) {
+  Q q;
+  q.head<3>() = qn.head<3>() + u.head<3>();
+  q.tail<3>() = sphere_exp(qn.tail<3>(), basis_n * u.tail<2>(), nullptr);
+  return q;
+}
+
+Mat<6, 5> update_derivative(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u) {
+  Mat3 J;
+  sphere_exp(qn.tail<3>(), basis_n * u.tail<2>(), &J);
+  Mat<6, 5> D = Mat<6, 5>::Zero();
+  D.topLeftCorner<3, 3>().setIdentity();
+  D.bottomRightCorner<3, 2>() = J * basis_n;
+  return D;
+}
+
+Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u) {
+  const Vec3 dn = qn.tail<3>();
+  const Vec3 v = basis_n * u.tail<2>();
+  // Rotation by |v| about dₙ × v/|v| carries dₙ to exp_{dₙ}(v) and transports the basis.
+  const Mat3 R = rodrigues(dn.cross(v));
+  return R * basis_n;
+}
+
+}  // namespace isoflex::director_node

@@ -1,0 +1,27 @@
+#pragma once
+// Director node q = (φ, d) ∈ R⁶ on R³ × S² (DNSM-III (40)), used by Reissner–Mindlin shell nodes.
+// Generalized velocity s = (φ̇, θ̇₁, θ̇₂) ∈ R⁵ (47), relative to an orthonormal basis (d₁, d₂) of
+// T_d S² that the node carries from step to step.
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::director_node {
+inline constexpr int kCoords = 6;
+inline constexpr int kTwist = 5;
+inline constexpr int kConstraints = 1;
+using Q = Vec<6>;
+
+// Orthonormal (d₁, d₂) with d₁ × d₂ = d for a unit d (a smooth choice away from d ≈ −e₃ is not
+// needed: the basis is transported by update()).
+Mat<3, 2> tangent_basis(const Vec3& d);
+
+double constraint(const Q& q);                 // (41)
+Mat<1, 6> jacobian(const Q& q);                // (42)
+Mat<6, 5> null_space(const Mat<3, 2>& basis);  // (48)
+// Discrete null space (49)–(50); satisfies G(q_{n+½}) 𝖯 = 0 for every q_{n+1}.
+Mat<6, 5> discrete_null_space(const Q& qn, const Mat<3, 2>& basis_n, const Q& qn1);
+// Reparametrization (53)–(54): φ + u_φ, exp_{dₙ}(D θ).
+Q update(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
+Mat<6, 5> update_derivative(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
+// Parallel transport of the tangent basis along the geodesic from dₙ to d_{n+1} = exp_{dₙ}(Dθ).
+Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
+}  // namespace isoflex::director_node

@@ -1,0 +1,54 @@
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::model {
+
+namespace {
+struct JointName {
+  JointType type;
+  const char* name;
+  int m;
+};
+constexpr JointName kJoints[] = {
+    {JointType::spherical, "spherical", 3},     {JointType::revolute, "revolute", 5},
+    {JointType::prismatic, "prismatic", 5},     {JointType::cylindrical, "cylindrical", 4},
+    {JointType::planar, "planar", 3},           {JointType::universal, "universal", 4},
+    {JointType::rigid, "rigid", 6},             {JointType::point_on_line, "point_on_line", 2},
+    {JointType::fixed, "fixed", 6},
+};
+}  // namespace
+
+const char* to_string(JointType t) {
+  for (const auto& j : kJoints)
+    if (j.type == t) return j.name;
+  return "?";
+}
+
+std::optional<JointType> joint_type_from_string(const std::string& s) {
+  for (const auto& j : kJoints)
+    if (s == j.name) return j.type;
+  return std::nullopt;
+}
+
+int joint_constraint_count(JointType t) {
+  for (const auto& j : kJoints)
+    if (j.type == t) return j.m;
+  return 0;
+}
+
+const char* to_string(Formulation f) {
+  switch (f) {
+    case Formulation::constrained: return "constrained";
+    case Formulation::nullspace: return "nullspace";
+    case Formulation::reparametrized: return "reparametrized";
+  }
+  return "?";
+}
+
+std::optional<Formulation> formulation_from_string(const std::string& s) {
+  if (s == "constrained") return Formulation::constrained;
+  if (s == "nullspace") return Formulation::nullspace;
+  if (s == "reparametrized") return Formulation::reparametrized;
+  return std::nullopt;
+}
+
+}  // namespace isoflex::model

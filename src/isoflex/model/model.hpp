@@ -1,0 +1,132 @@
+#pragma once
+// The description of a multibody system as plain data, filled by io::read_model or from C++.
+// Geometry given "at t = 0" is in global coordinates of the initial configuration; system::compile
+// converts it to body-fixed data. Every entry keeps the source line of its model-file entry (0 when
+// built from C++) so that compile-time errors can point back to the file.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::model {
+
+struct Source {
+  std::string file;  // empty when built from C++
+  int line = 0;      // 1-based, 0 = unknown
+};
+
+enum class ShapeKind { none, box, sphere, pyramid, cylinder };
+
+// Drawing shape in body coordinates (centred at the centre of mass unless `offset` is given).
+struct Shape {
+  ShapeKind kind = ShapeKind::none;
+  Vec3 size = Vec3::Zero();  // box: edge lengths along d₁, d₂, d₃
+  double radius = 0.0;       // sphere, cylinder (axis d₃)
+  double height = 0.0;       // cylinder length; pyramid height (apex along +d₃)
+  double base = 0.0;         // pyramid: square base edge
+  Vec3 offset = Vec3::Zero();  // body coordinates of the shape's reference point (cylinder and
+                               // box centre, pyramid base centre, sphere centre)
+};
+
+struct Body {
+  std::string name;
+  double mass = 0.0;
+  Vec3 inertia = Vec3::Zero();         // principal moments J₁, J₂, J₃ about the centre of mass
+  Vec3 position = Vec3::Zero();        // centre of mass at t = 0
+  Mat3 orientation = Mat3::Identity();  // columns: principal axes d₁, d₂, d₃ at t = 0
+  Vec3 velocity = Vec3::Zero();        // of the centre of mass at t = 0
+  Vec3 angular_velocity = Vec3::Zero();  // spatial (global components) at t = 0
+  Shape shape;
+  Source source;
+};
+
+enum class JointType {
+  spherical,
+  revolute,
+  prismatic,
+  cylindrical,
+  planar,
+  universal,
+  rigid,
+  point_on_line,
+  fixed
+};
+
+// A joint between body_a (the parent side; "ground" for the fixed space) and body_b.
+// Location: `point` (global at t = 0) or, alternatively, `point_b` in body-b coordinates (the
+// point on body a is then the coincident material point at t = 0).
+// Axes (global at t = 0): revolute/cylindrical: rotation axis; prismatic: sliding direction;
+// planar: plane normal; universal: `axis` fixed in a and `axis2` fixed in b (perpendicular);
+// point_on_line: direction of the line fixed in a through `point`.
+struct Joint {
+  std::string name;
+  JointType type = JointType::spherical;
+  std::string body_a = "ground";
+  std::string body_b;
+  std::optional<Vec3> point;
+  std::optional<Vec3> point_b;
+  std::optional<Vec3> axis;
+  std::optional<Vec3> axis2;
+  Source source;
+};
+
+// A force and/or moment on a body, each component a time function written as an expression in t
+// (muParser syntax, e.g. "1000*sin(pi*t)*(t<=2)"). The force acts at a material point given
+// globally at t = 0 (`point`) or in body coordinates (`point_local`); default the centre of mass.
+struct Load {
+  std::string name;
+  std::string body;
+  std::optional<std::array<std::string, 3>> force;
+  std::optional<std::array<std::string, 3>> moment;
+  std::optional<Vec3> point;
+  std::optional<Vec3> point_local;
+  Source source;
+};
+
+// A named material point whose motion is recorded (probes.csv, summary.json).
+struct Probe {
+  std::string name;
+  std::string body;
+  std::optional<Vec3> point;        // global at t = 0
+  std::optional<Vec3> point_local;  // body coordinates
+  Source source;
+};
+
+enum class Formulation { constrained, nullspace, reparametrized };
+
+struct Solver {
+  Formulation formulation = Formulation::reparametrized;
+  double dt = 1e-2;
+  double t_end = 1.0;
+  double residual_tolerance = 1e-10;   // ‖r‖∞ relative to the momentum scale, see docs
+  double increment_tolerance = 1e-12;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
+  int max_iterations = 25;
+};
+
+struct Output {
+  int vtk_every = 1;  // write a .vtu every k steps (0 = none)
+  bool history = true;
+};
+
+struct Model {
+  std::string name;
+  std::string file;  // where it was read from, for messages
+  Vec3 gravity = Vec3::Zero();
+  std::vector<Body> bodies;
+  std::vector<Joint> joints;
+  std::vector<Load> loads;
+  std::vector<Probe> probes;
+  Solver solver;
+  Output output;
+};
+
+const char* to_string(JointType t);
+std::optional<JointType> joint_type_from_string(const std::string& s);
+const char* to_string(Formulation f);
+std::optional<Formulation> formulation_from_string(const std::string& s);
+// Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
+int joint_constraint_count(JointType t);
+
+}  // namespace isoflex::model

@@ -1,0 +1,47 @@
+#include <gtest/gtest.h>
+
+#include "isoflex/math/director_node.hpp"
+#include "support/finite_difference.hpp"
+
+using namespace isoflex;
+using namespace isoflex::test;
+namespace dn = isoflex::director_node;
+
+namespace {
+dn::Q random_director_q(std::mt19937& g) {
+  dn::Q q;
+  q << random_vector(g, 3), random_vector(g, 3).normalized();
+  return q;
+}
+}  // namespace
+
+TEST(DirectorNode, NullSpacesAnnihilateJacobian) {
+  std::mt19937 g(6);
+  for (int k = 0; k < 20; ++k) {
+    const dn::Q qn = random_director_q(g), qn1 = random_director_q(g);
+    const auto B = dn::tangent_basis(qn.tail<3>());
+    EXPECT_LT((dn::jacobian(qn) * dn::null_space(B)).norm(), 1e-14);
+    // Discrete version (49)–(50): 𝖦 = G(q_{n+½}).
+    const dn::Q qm = 0.5 * (qn + qn1);
+    EXPECT_LT((dn::jacobian(qm) * dn::discrete_null_space(qn, B, qn1)).norm(), 1e-13);
+    // 𝖯 → P as q_{n+1} → q_n (Remark 2.2).
+    EXPECT_LT((dn::discrete_null_space(qn, B, qn) - dn::null_space(B)).norm(), 1e-14);
+  }
+}
+
+TEST(DirectorNode, UpdateKeepsUnitLengthAndHasExactDerivative) {
+  std::mt19937 g(7);
+  for (double scale : {1.0, 1e-5}) {
+    const dn::Q qn = random_director_q(g);
+    const auto B = dn::tangent_basis(qn.tail<3>());
+    const VecX u = random_vector(g, 5, scale);
+    EXPECT_LT(std::abs(dn::constraint(dn::update(qn, B, u))), 1e-15);
+    auto f = [&](const VecX& x) -> VecX { return dn::update(qn, B, x); };
+    EXPECT_LT(rel_diff(dn::update_derivative(qn, B, u), central_jacobian(f, u)), 1e-8);
+    // The transported basis is orthonormal and tangent at the new director.
+    const auto Bn = dn::transport_basis(qn, B, u);
+    const Vec3 d = dn::update(qn, B, u).tail<3>();
+    EXPECT_LT((Bn.transpose() * Bn - Eigen::Matrix2d::Identity()).norm(), 1e-14);
+    EXPECT_LT((Bn.transpose() * d).norm(), 1e-14);
+  }
+}
