@@ -1,0 +1,49 @@
+#pragma once
+// What an integrator reports after the initial state and after every step: plain values, so that
+// writers (io/) and the progress display (app/) need nothing from system/ or integrate/ internals.
+#include <string>
+#include <vector>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::integrate {
+
+struct BodyPose {
+  std::string name;
+  Vec3 position = Vec3::Zero();         // centre of mass φ
+  Mat3 directors = Mat3::Identity();    // columns d₁, d₂, d₃
+  Vec3 velocity = Vec3::Zero();         // φ̇
+  Vec3 angular_velocity = Vec3::Zero(); // spatial ω
+};
+
+struct ProbeValue {
+  std::string name;
+  Vec3 position = Vec3::Zero();
+  Vec3 displacement = Vec3::Zero();  // position − position at t = 0
+  Vec3 velocity = Vec3::Zero();
+};
+
+struct Snapshot {
+  int step = 0;  // 0 = initial state
+  double t = 0.0;
+  double kinetic_energy = 0.0;
+  double potential_energy = 0.0;  // conservative potentials only (gravity, elastic)
+  double total_energy = 0.0;
+  Vec3 linear_momentum = Vec3::Zero();
+  Vec3 angular_momentum = Vec3::Zero();  // about the global origin
+  double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints
+  int newton_iterations = 0;             // of this step (0 for the initial state)
+  double residual = 0.0;                 // final Newton residual norm of this step
+  std::vector<BodyPose> bodies;
+  std::vector<ProbeValue> probes;
+};
+
+// Observers are called in order after the initial state and after every converged step.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void on_snapshot(const Snapshot& s) = 0;
+  virtual void on_finish() {}
+};
+
+}  // namespace isoflex::integrate

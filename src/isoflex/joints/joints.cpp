@@ -1,0 +1,1 @@
+// (room joints: sources follow)

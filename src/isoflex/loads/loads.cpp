@@ -1,0 +1,1 @@
+// (room loads: sources follow)

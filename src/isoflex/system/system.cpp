@@ -1,0 +1,1 @@
+// (room system: sources follow)
