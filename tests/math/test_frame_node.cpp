@@ -10,7 +10,9 @@ using namespace isoflex::test;
 namespace fn = isoflex::frame_node;
 
 namespace {
-fn::Q random_q(std::mt19937& g) { return random_vector(g, 12, 2.0); }
+fn::Q random_q(std::mt19937& g) {
+  return random_vector(g, 12, 2.0);
+}
 fn::Q random_manifold_q(std::mt19937& g) {
   return fn::make(random_vector(g, 3), random_rotation(g));
 }

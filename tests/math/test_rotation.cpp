@@ -21,7 +21,8 @@ TEST(Rodrigues, RotatesAboutItsAxisByItsNorm) {
   const Vec3 x = rodrigues(th) * Vec3::UnitX();
   EXPECT_NEAR(x.x(), std::cos(0.3), 1e-15);
   EXPECT_NEAR(x.y(), std::sin(0.3), 1e-15);
-  EXPECT_LT((rodrigues(Vec3(1e-9, 0, 0)) - Mat3::Identity() - skew(Vec3(1e-9, 0, 0))).norm(), 1e-17);
+  EXPECT_LT((rodrigues(Vec3(1e-9, 0, 0)) - Mat3::Identity() - skew(Vec3(1e-9, 0, 0))).norm(),
+            1e-17);
 }
 
 // δ(exp(θ̂) v) = (T(θ) δθ) × exp(θ̂) v, checked against central differences, also for small |θ|

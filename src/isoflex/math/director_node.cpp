@@ -16,7 +16,9 @@ Mat<3, 2> tangent_basis(const Vec3& d) {
   return B;
 }
 
-double constraint(const Q& q) { return 0.5 * (q.tail<3>().squaredNorm() - 1.0); }
+double constraint(const Q& q) {
+  return 0.5 * (q.tail<3>().squaredNorm() - 1.0);
+}
 
 Mat<1, 6> jacobian(const Q& q) {
   Mat<1, 6> G = Mat<1, 6>::Zero();
@@ -45,7 +47,8 @@ Vec3 sphere_exp(const Vec3& d, const Vec3& v, Mat3* J) {
   const double a = v.norm();
   const double s = a < 1e-4 ? 1.0 - a * a / 6.0 : std::sin(a) / a;
   if (J) {
-    const double c = a < 1e-3 ? -1.0 / 3.0 + a * a / 30.0 : (a * std::cos(a) - std::sin(a)) / (a * a * a);
+    const double c =
+        a < 1e-3 ? -1.0 / 3.0 + a * a / 30.0 : (a * std::cos(a) - std::sin(a)) / (a * a * a);
     *J = -s * d * v.transpose() + s * Mat3::Identity() + c * v * v.transpose();
   }
   return std::cos(a) * d + s * v;

@@ -9,8 +9,12 @@ inline constexpr int kTwist = 6;
 inline constexpr int kConstraints = 6;
 using Q = Vec<12>;
 
-inline Vec3 phi(const Q& q) { return q.segment<3>(0); }
-inline Vec3 director(const Q& q, int i) { return q.segment<3>(3 + 3 * i); }
+inline Vec3 phi(const Q& q) {
+  return q.segment<3>(0);
+}
+inline Vec3 director(const Q& q, int i) {
+  return q.segment<3>(3 + 3 * i);
+}
 // Columns are d₁, d₂, d₃ (the rotation matrix when q lies on the manifold).
 Mat3 directors(const Q& q);
 Q make(const Vec3& phi, const Mat3& R);

@@ -9,10 +9,10 @@ struct JointName {
   int m;
 };
 constexpr JointName kJoints[] = {
-    {JointType::spherical, "spherical", 3},     {JointType::revolute, "revolute", 5},
-    {JointType::prismatic, "prismatic", 5},     {JointType::cylindrical, "cylindrical", 4},
-    {JointType::planar, "planar", 3},           {JointType::universal, "universal", 4},
-    {JointType::rigid, "rigid", 6},             {JointType::point_on_line, "point_on_line", 2},
+    {JointType::spherical, "spherical", 3}, {JointType::revolute, "revolute", 5},
+    {JointType::prismatic, "prismatic", 5}, {JointType::cylindrical, "cylindrical", 4},
+    {JointType::planar, "planar", 3},       {JointType::universal, "universal", 4},
+    {JointType::rigid, "rigid", 6},         {JointType::point_on_line, "point_on_line", 2},
     {JointType::fixed, "fixed", 6},
 };
 }  // namespace
@@ -37,9 +37,12 @@ int joint_constraint_count(JointType t) {
 
 const char* to_string(Formulation f) {
   switch (f) {
-    case Formulation::constrained: return "constrained";
-    case Formulation::nullspace: return "nullspace";
-    case Formulation::reparametrized: return "reparametrized";
+    case Formulation::constrained:
+      return "constrained";
+    case Formulation::nullspace:
+      return "nullspace";
+    case Formulation::reparametrized:
+      return "reparametrized";
   }
   return "?";
 }

@@ -22,10 +22,10 @@ enum class ShapeKind { none, box, sphere, pyramid, cylinder };
 // Drawing shape in body coordinates (centred at the centre of mass unless `offset` is given).
 struct Shape {
   ShapeKind kind = ShapeKind::none;
-  Vec3 size = Vec3::Zero();  // box: edge lengths along d₁, d₂, d₃
-  double radius = 0.0;       // sphere, cylinder (axis d₃)
-  double height = 0.0;       // cylinder length; pyramid height (apex along +d₃)
-  double base = 0.0;         // pyramid: square base edge
+  Vec3 size = Vec3::Zero();    // box: edge lengths along d₁, d₂, d₃
+  double radius = 0.0;         // sphere, cylinder (axis d₃)
+  double height = 0.0;         // cylinder length; pyramid height (apex along +d₃)
+  double base = 0.0;           // pyramid: square base edge
   Vec3 offset = Vec3::Zero();  // body coordinates of the shape's reference point (cylinder and
                                // box centre, pyramid base centre, sphere centre)
 };
@@ -33,10 +33,10 @@ struct Shape {
 struct Body {
   std::string name;
   double mass = 0.0;
-  Vec3 inertia = Vec3::Zero();         // principal moments J₁, J₂, J₃ about the centre of mass
-  Vec3 position = Vec3::Zero();        // centre of mass at t = 0
-  Mat3 orientation = Mat3::Identity();  // columns: principal axes d₁, d₂, d₃ at t = 0
-  Vec3 velocity = Vec3::Zero();        // of the centre of mass at t = 0
+  Vec3 inertia = Vec3::Zero();   // principal moments J₁, J₂, J₃ about the centre of mass
+  Vec3 position = Vec3::Zero();  // centre of mass at t = 0
+  Mat3 orientation = Mat3::Identity();   // columns: principal axes d₁, d₂, d₃ at t = 0
+  Vec3 velocity = Vec3::Zero();          // of the centre of mass at t = 0
   Vec3 angular_velocity = Vec3::Zero();  // spatial (global components) at t = 0
   Shape shape;
   Source source;

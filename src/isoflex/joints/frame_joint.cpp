@@ -1,0 +1,260 @@
+#include "isoflex/joints/frame_joint.hpp"
+
+#include <cassert>
+
+#include "isoflex/math/rotation.hpp"
+#include "isoflex/math/skew.hpp"
+
+namespace isoflex::joints {
+
+namespace fn = frame_node;
+
+namespace {
+// Linear maps L (3 × 24) with L·(q_A, q_B) = a body vector; every constraint row is L₁q or
+// (L₁q)·(L₂q), which makes Φ, G and the constant Hessian uniform.
+using L = Mat<3, 24>;
+
+L director_combination(const Vec3& c, int node) {
+  L l = L::Zero();
+  for (int I = 0; I < 3; ++I) l.block<3, 3>(0, 12 * node + 3 + 3 * I) = c(I) * Mat3::Identity();
+  return l;
+}
+
+L point_map(const Vec3& X, int node) {
+  L l = director_combination(X, node);
+  l.block<3, 3>(0, 12 * node).setIdentity();
+  return l;
+}
+
+// r = x_B − x_A.
+L relative_point_map(const Vec3& X_A, const Vec3& X_B) {
+  return point_map(X_B, 1) - point_map(X_A, 0);
+}
+
+Vec<24> stack(const fn::Q& qa, const fn::Q& qb) {
+  Vec<24> q;
+  q << qa, qb;
+  return q;
+}
+
+Vec3 body_vector(const fn::Q& q, const Vec3& c) {
+  return c(0) * fn::director(q, 0) + c(1) * fn::director(q, 1) + c(2) * fn::director(q, 2);
+}
+}  // namespace
+
+FrameJoint::FrameJoint(Kind kind, const FrameJointGeometry& g) : kind_(kind), g_(g) {
+  switch (kind) {
+    case Kind::spherical:
+      point_rows_ = true;
+      r_ = 3;
+      rotvec_ = 0;
+      break;
+    case Kind::revolute:
+      point_rows_ = true;
+      frame_rows_ = {{2, 0}, {2, 1}};
+      r_ = 1;
+      break;
+    case Kind::universal:
+      point_rows_ = true;
+      frame_rows_ = {{0, 1}};
+      r_ = 2;
+      break;
+    case Kind::cylindrical:
+      frame_rows_ = {{2, 0}, {2, 1}};
+      plane_rows_ = {0, 1};
+      slides_ = true;
+      r_ = 2;
+      break;
+    case Kind::prismatic:
+      frame_rows_ = {{0, 1}, {1, 2}, {2, 0}};
+      plane_rows_ = {0, 1};
+      slides_ = true;
+      r_ = 1;
+      break;
+    case Kind::planar:
+      frame_rows_ = {{2, 0}, {2, 1}};
+      plane_rows_ = {2};
+      slides_ = true;
+      r_ = 3;
+      break;
+    case Kind::rigid:
+      point_rows_ = true;
+      frame_rows_ = {{0, 1}, {1, 2}, {2, 0}};
+      r_ = 0;
+      break;
+    case Kind::point_on_line:
+      plane_rows_ = {0, 1};
+      slides_ = true;
+      r_ = 4;
+      rotvec_ = 0;
+      break;
+  }
+  m_ = (point_rows_ ? 3 : 0) + static_cast<int>(frame_rows_.size() + plane_rows_.size());
+}
+
+FrameJoint::FrameVectors FrameJoint::vectors(const Q& qa, const Q& qb) const {
+  FrameVectors v;
+  v.rho_a = body_vector(qa, g_.X_A);
+  v.rho_b = body_vector(qb, g_.X_B);
+  v.x_a = fn::phi(qa) + v.rho_a;
+  v.x_b = fn::phi(qb) + v.rho_b;
+  v.r = v.x_b - v.x_a;
+  for (int k = 0; k < 3; ++k) {
+    v.a.col(k) = body_vector(qa, g_.C_A.col(k));
+    v.b.col(k) = body_vector(qb, g_.C_B.col(k));
+  }
+  return v;
+}
+
+VecX FrameJoint::constraints(const Q& qa, const Q& qb) const {
+  const FrameVectors v = vectors(qa, qb);
+  VecX c(m_);
+  int row = 0;
+  if (point_rows_) c.segment<3>(row) = v.r, row += 3;
+  for (auto [i, j] : frame_rows_) c(row++) = v.a.col(i).dot(v.b.col(j));
+  for (int i : plane_rows_) c(row++) = v.r.dot(v.a.col(i));
+  return c;
+}
+
+MatX FrameJoint::jacobian(const Q& qa, const Q& qb) const {
+  const Vec<24> q = stack(qa, qb);
+  const L lr = relative_point_map(g_.X_A, g_.X_B);
+  MatX G(m_, 24);
+  int row = 0;
+  if (point_rows_) G.middleRows<3>(row) = lr, row += 3;
+  for (auto [i, j] : frame_rows_) {
+    const L la = director_combination(g_.C_A.col(i), 0),
+            lb = director_combination(g_.C_B.col(j), 1);
+    G.row(row++) = (la * q).transpose() * lb + (lb * q).transpose() * la;
+  }
+  for (int i : plane_rows_) {
+    const L la = director_combination(g_.C_A.col(i), 0);
+    G.row(row++) = (la * q).transpose() * lr + (lr * q).transpose() * la;
+  }
+  return G;
+}
+
+void FrameJoint::add_constraint_hessian(const VecX& lambda, Mat<24, 24>& H) const {
+  assert(lambda.size() == m_);
+  const L lr = relative_point_map(g_.X_A, g_.X_B);
+  int row = point_rows_ ? 3 : 0;
+  for (auto [i, j] : frame_rows_) {
+    const L la = director_combination(g_.C_A.col(i), 0),
+            lb = director_combination(g_.C_B.col(j), 1);
+    H += lambda(row++) * (la.transpose() * lb + lb.transpose() * la);
+  }
+  for (int i : plane_rows_) {
+    const L la = director_combination(g_.C_A.col(i), 0);
+    H += lambda(row++) * (la.transpose() * lr + lr.transpose() * la);
+  }
+}
+
+std::vector<Vec3> FrameJoint::translation_directions(const Mat3& a) const {
+  // Directions orthogonal to the constrained a_i for every q, not only on the manifold.
+  switch (kind_) {
+    case Kind::prismatic:
+    case Kind::cylindrical:
+    case Kind::point_on_line:
+      return {a.col(0).cross(a.col(1))};
+    case Kind::planar:
+      return {a.col(2).cross(a.col(0)), a.col(1).cross(a.col(2))};
+    default:
+      return {};
+  }
+}
+
+namespace {
+// Relative rotation axes (ω_B = ω_A + Σ axis τ) of a joint.
+std::vector<Vec3> relative_axes(Kind kind, const Mat3& a, const Mat3& b) {
+  switch (kind) {
+    case Kind::revolute:
+    case Kind::cylindrical:
+    case Kind::planar:
+      return {a.col(2)};
+    case Kind::universal:
+      return {a.col(0), b.col(1)};
+    default:
+      return {};
+  }
+}
+bool absolute_rotation(Kind kind) {
+  return kind == Kind::spherical || kind == Kind::point_on_line;
+}
+}  // namespace
+
+Mat<6, 6> FrameJoint::parent_block(const Q& qa, const Q& qb) const {
+  const FrameVectors v = vectors(qa, qb);
+  const double follow = absolute_rotation(kind_) ? 0.0 : 1.0;  // ω_B contains ω_A
+  const Vec3 arm = v.rho_a + (slides_ ? v.r : Vec3::Zero());
+  Mat<6, 6> A = Mat<6, 6>::Zero();
+  A.block<3, 3>(0, 0).setIdentity();
+  A.block<3, 3>(0, 3) = -skew(arm) + follow * skew(v.rho_b);
+  A.block<3, 3>(3, 3) = follow * Mat3::Identity();
+  return A;
+}
+
+MatX FrameJoint::freedom_block(const Q& qa, const Q& qb) const {
+  const FrameVectors v = vectors(qa, qb);
+  MatX B = MatX::Zero(6, r_);
+  int col = 0;
+  const Mat3 rb = skew(v.rho_b);
+  if (absolute_rotation(kind_)) {
+    B.block<3, 3>(0, 0) = rb;
+    B.block<3, 3>(3, 0).setIdentity();
+    col = 3;
+  }
+  for (const Vec3& axis : relative_axes(kind_, v.a, v.b)) {
+    B.block<3, 1>(0, col) = rb * axis;
+    B.block<3, 1>(3, col) = axis;
+    ++col;
+  }
+  for (const Vec3& t : translation_directions(v.a)) B.block<3, 1>(0, col++) = t;
+  assert(col == r_);
+  return B;
+}
+
+FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Q& qb_n,
+                                 const VecX& tau) const {
+  assert(tau.size() == r_);
+  // Q_A carries the parent's rotation over the step: Q_A a(q_A,n) = a(q_A,n+1).
+  const Mat3 QA = fn::directors(qa_n1) * fn::directors(qa_n).transpose();
+  const FrameVectors vn = vectors(qa_n, qb_n);
+  const Mat3 Rb_n = fn::directors(qb_n);
+  Mat3 Rb;
+  int k = 0;
+  if (absolute_rotation(kind_)) {
+    Rb = rodrigues(tau.head<3>()) * Rb_n;
+    k = 3;
+  } else if (kind_ == Kind::universal) {
+    const Vec3 a1 = body_vector(qa_n1, g_.C_A.col(0));
+    const Vec3 b2 = vn.b.col(1);
+    Rb = rodrigues(tau(0) * a1) * QA * rodrigues(tau(1) * b2) * Rb_n;
+    k = 2;
+  } else if (kind_ == Kind::revolute || kind_ == Kind::cylindrical || kind_ == Kind::planar) {
+    const Vec3 a3 = body_vector(qa_n1, g_.C_A.col(2));
+    Rb = rodrigues(tau(0) * a3) * QA * Rb_n;
+    k = 1;
+  } else {
+    Rb = QA * Rb_n;
+  }
+  Mat3 a_n1;
+  for (int i = 0; i < 3; ++i) a_n1.col(i) = body_vector(qa_n1, g_.C_A.col(i));
+  Vec3 x_b = fn::phi(qa_n1) + body_vector(qa_n1, g_.X_A);
+  if (slides_) x_b += QA * vn.r;
+  for (const Vec3& t : translation_directions(a_n1)) x_b += tau(k++) * t;
+  assert(k == r_);
+  return fn::make(x_b - Rb * g_.X_B, Rb);
+}
+
+FrameJointGeometry geometry_from_global(const fn::Q& qa0, const fn::Q& qb0, const Vec3& p,
+                                        const Mat3& E) {
+  const Mat3 Ra = fn::directors(qa0), Rb = fn::directors(qb0);
+  FrameJointGeometry g;
+  g.X_A = Ra.transpose() * (p - fn::phi(qa0));
+  g.C_A = Ra.transpose() * E;
+  g.X_B = Rb.transpose() * (p - fn::phi(qb0));
+  g.C_B = Rb.transpose() * E;
+  return g;
+}
+
+}  // namespace isoflex::joints
