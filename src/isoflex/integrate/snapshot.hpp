@@ -10,10 +10,10 @@ namespace isoflex::integrate {
 
 struct BodyPose {
   std::string name;
-  Vec3 position = Vec3::Zero();         // centre of mass φ
-  Mat3 directors = Mat3::Identity();    // columns d₁, d₂, d₃
-  Vec3 velocity = Vec3::Zero();         // φ̇
-  Vec3 angular_velocity = Vec3::Zero(); // spatial ω
+  Vec3 position = Vec3::Zero();          // centre of mass φ
+  Mat3 directors = Mat3::Identity();     // columns d₁, d₂, d₃
+  Vec3 velocity = Vec3::Zero();          // φ̇
+  Vec3 angular_velocity = Vec3::Zero();  // spatial ω
 };
 
 struct ProbeValue {

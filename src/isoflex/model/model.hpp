@@ -100,8 +100,8 @@ struct Solver {
   Formulation formulation = Formulation::reparametrized;
   double dt = 1e-2;
   double t_end = 1.0;
-  double residual_tolerance = 1e-10;   // ‖r‖∞ relative to the momentum scale, see docs
-  double increment_tolerance = 1e-12;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
+  double residual_tolerance = 1e-14;  // ‖R‖∞ relative to (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞
+  double increment_tolerance = 1e-11;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
   int max_iterations = 25;
 };
 

@@ -1,1 +1,544 @@
-// (room system: sources follow)
+#include "isoflex/system/system.hpp"
+
+#include <fmt/format.h>
+
+#include <deque>
+#include <map>
+
+#include "isoflex/elements/rigid_body.hpp"
+#include "isoflex/math/rotation.hpp"
+#include "isoflex/math/skew.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+
+namespace isoflex::system {
+
+namespace fn = frame_node;
+
+namespace {
+
+[[noreturn]] void fail(const model::Source& s, const std::string& what, const std::string& msg) {
+  throw CompileError(
+      fmt::format("{}:{}: {}: {}", s.file.empty() ? "<model>" : s.file, s.line, what, msg));
+}
+
+joints::Kind kind_of(model::JointType t) {
+  using T = model::JointType;
+  using K = joints::Kind;
+  switch (t) {
+    case T::spherical:
+      return K::spherical;
+    case T::revolute:
+      return K::revolute;
+    case T::prismatic:
+      return K::prismatic;
+    case T::cylindrical:
+      return K::cylindrical;
+    case T::planar:
+      return K::planar;
+    case T::universal:
+      return K::universal;
+    case T::rigid:
+    case T::fixed:
+      return K::rigid;
+    case T::point_on_line:
+      return K::point_on_line;
+  }
+  return K::rigid;
+}
+
+// A right-handed frame with third column e₃.
+Mat3 frame_about(const Vec3& e3) {
+  const Vec3 n = e3.normalized();
+  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = (a - a.dot(n) * n).normalized();
+  Mat3 E;
+  E << e1, n.cross(e1), n;
+  return E;
+}
+
+void add_block(Triplets& t, int r0, int c0, const MatX& B) {
+  for (int j = 0; j < B.cols(); ++j)
+    for (int i = 0; i < B.rows(); ++i)
+      if (B(i, j) != 0.0) t.emplace_back(r0 + i, c0 + j, B(i, j));
+}
+
+}  // namespace
+
+const fn::Q System::node_q(const VecX& q, int node) const {
+  return node < 0 ? ground_ : fn::Q(q.segment<12>(12 * node));
+}
+
+int System::joint_of_row(int row) const {
+  for (int j = 0; j < static_cast<int>(joints_.size()); ++j) {
+    const auto& J = joints_[j];
+    if (row >= J.row_offset && row < J.row_offset + J.joint.constraint_count()) return j;
+  }
+  return -1;
+}
+
+System System::compile(const model::Model& model) {
+  System s;
+  s.ground_ = fn::make(Vec3::Zero(), Mat3::Identity());
+  const int N = static_cast<int>(model.bodies.size());
+  std::map<std::string, int> index;
+  s.q0_.resize(12 * N);
+  for (int i = 0; i < N; ++i) {
+    const auto& b = model.bodies[i];
+    index[b.name] = i;
+    s.q0_.segment<12>(12 * i) = fn::make(b.position, b.orientation);
+    s.elements_.push_back(
+        std::make_unique<elements::RigidBody>(i, b.mass, b.inertia, model.gravity));
+  }
+  auto find_body = [&](const std::string& name, const model::Source& src, const std::string& what) {
+    if (name == "ground") return -1;
+    auto it = index.find(name);
+    if (it == index.end()) fail(src, what, fmt::format("no body named '{}'", name));
+    return it->second;
+  };
+
+  // Mass matrix.
+  {
+    Triplets t;
+    for (const auto& e : s.elements_) {
+      const MatX Me = e->mass();
+      const auto& nodes = e->nodes();
+      for (std::size_t a = 0; a < nodes.size(); ++a)
+        for (std::size_t b = 0; b < nodes.size(); ++b)
+          add_block(t, 12 * nodes[a], 12 * nodes[b], Me.block<12, 12>(12 * a, 12 * b));
+    }
+    s.M_.resize(12 * N, 12 * N);
+    s.M_.setFromTriplets(t.begin(), t.end());
+  }
+
+  // Loads.
+  for (std::size_t l = 0; l < model.loads.size(); ++l) {
+    const auto& L = model.loads[l];
+    const std::string what = fmt::format("loads[{}]", l);
+    const int node = find_body(L.body, L.source, what + ".body");
+    if (node < 0) fail(L.source, what + ".body", "a load cannot act on the ground");
+    const fn::Q q = s.node_q(s.q0_, node);
+    Vec3 X = Vec3::Zero();
+    if (L.point_local) X = *L.point_local;
+    if (L.point) X = fn::directors(q).transpose() * (*L.point - fn::phi(q));
+    auto compile3 = [&](const std::optional<std::array<std::string, 3>>& e, const char* key) {
+      std::optional<std::array<loads::TimeFunction, 3>> f;
+      if (!e) return f;
+      try {
+        f = std::array<loads::TimeFunction, 3>{loads::TimeFunction((*e)[0]),
+                                               loads::TimeFunction((*e)[1]),
+                                               loads::TimeFunction((*e)[2])};
+      } catch (const std::exception& ex) {
+        fail(L.source, what + "." + key, ex.what());
+      }
+      return f;
+    };
+    s.loads_.emplace_back(node, X, compile3(L.force, "force"), compile3(L.moment, "moment"));
+  }
+
+  // Probes.
+  for (std::size_t p = 0; p < model.probes.size(); ++p) {
+    const auto& P = model.probes[p];
+    const int node = find_body(P.body, P.source, fmt::format("probes[{}].body", p));
+    if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
+    const fn::Q q = s.node_q(s.q0_, node);
+    Vec3 X = Vec3::Zero();
+    if (P.point_local) X = *P.point_local;
+    if (P.point) X = fn::directors(q).transpose() * (*P.point - fn::phi(q));
+    s.probes_.push_back({P.name, node, X});
+  }
+
+  // Joint graph and spanning forest rooted at the ground (breadth first, so chains hang from the
+  // ground by their shortest paths). A joint reached from its body_b side is built with the roles
+  // swapped; its constraint set is equivalent (frames coincide at t = 0). A point-on-line joint
+  // is not symmetric (the line belongs to body_a), so it is never used reversed in the tree.
+  struct Edge {
+    int a, b;
+  };
+  std::vector<Edge> edges;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const auto& J = model.joints[j];
+    const std::string what = fmt::format("joints[{}]", j);
+    const int a = find_body(J.body_a, J.source, what + ".body_a");
+    const int b = find_body(J.body_b, J.source, what + ".body_b");
+    if (b < 0) fail(J.source, what + ".body_b", "body_b cannot be the ground");
+    if (a == b) fail(J.source, what, "a joint needs two different bodies");
+    if (J.type == model::JointType::fixed && a >= 0)
+      fail(J.source, what + ".body_a", "a fixed support joins a body to the ground");
+    edges.push_back({a, b});
+  }
+  std::vector<int> tree_parent_side(edges.size(), 0);  // 0 not in tree, +1 a→b, −1 b→a
+  std::vector<bool> reached(N, false);
+  std::vector<int> order;  // tree joints in BFS order
+  auto grow = [&](std::deque<int> frontier) {
+    while (!frontier.empty()) {
+      const int u = frontier.front();
+      frontier.pop_front();
+      for (std::size_t j = 0; j < edges.size(); ++j) {
+        if (tree_parent_side[j] != 0) continue;
+        const auto [a, b] = edges[j];
+        if (a == u && !reached[b]) {
+          tree_parent_side[j] = 1;
+          reached[b] = true;
+          order.push_back(static_cast<int>(j));
+          frontier.push_back(b);
+        } else if (b == u && a >= 0 && !reached[a] &&
+                   model.joints[j].type != model::JointType::point_on_line) {
+          tree_parent_side[j] = -1;
+          reached[a] = true;
+          order.push_back(static_cast<int>(j));
+          frontier.push_back(a);
+        }
+      }
+    }
+  };
+  grow({-1});
+  for (int i = 0; i < N; ++i) {
+    if (reached[i]) continue;
+    reached[i] = true;
+    s.roots_.push_back(i);
+    grow({i});
+  }
+
+  // Joint instances, rows and ν layout.
+  int row = 6 * N;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const auto& J = model.joints[j];
+    const std::string what = fmt::format("joints[{}]", j);
+    const bool rev = tree_parent_side[j] == -1;
+    const int parent = rev ? edges[j].b : edges[j].a;
+    const int child = rev ? edges[j].a : edges[j].b;
+    const fn::Q qa0 = s.node_q(s.q0_, parent), qb0 = s.node_q(s.q0_, child);
+    const fn::Q qB = s.node_q(s.q0_, edges[j].b);
+    Vec3 p;
+    if (J.point)
+      p = *J.point;
+    else if (J.point_b)
+      p = fn::phi(qB) + fn::directors(qB) * *J.point_b;
+    else
+      p = fn::phi(qB);
+    Mat3 E = Mat3::Identity();
+    using T = model::JointType;
+    switch (J.type) {
+      case T::revolute:
+      case T::prismatic:
+      case T::cylindrical:
+      case T::planar:
+      case T::point_on_line:
+        if (!J.axis || !(J.axis->norm() > 0))
+          fail(J.source, what + ".axis", "a nonzero axis is required");
+        E = frame_about(*J.axis);
+        break;
+      case T::universal: {
+        if (!J.axis || !J.axis2) fail(J.source, what, "a universal joint needs axis and axis2");
+        Vec3 e1 = J.axis->normalized(), e2 = J.axis2->normalized();
+        if (std::abs(e1.dot(e2)) > 1e-9)
+          fail(J.source, what + ".axis2", "axis2 must be perpendicular to axis");
+        if (rev) std::swap(e1, e2);  // the parent's own axis is the first frame axis
+        E << e1, e2, e1.cross(e2);
+        break;
+      }
+      default:
+        break;
+    }
+    JointInstance inst{
+        J.name.empty() ? what : J.name,
+        J.type,
+        joints::FrameJoint(kind_of(J.type), joints::geometry_from_global(qa0, qb0, p, E)),
+        parent,
+        child,
+        tree_parent_side[j] != 0,
+        rev,
+        row,
+        -1};
+    row += inst.joint.constraint_count();
+    s.joints_.push_back(std::move(inst));
+  }
+  s.m_all_ = row;
+  int nu = 0;
+  for (std::size_t r = 0; r < s.roots_.size(); ++r) {
+    s.root_nu_offset_.push_back(nu);
+    nu += 6;
+  }
+  for (int j : order) {
+    s.joints_[j].nu_offset = nu;
+    nu += s.joints_[j].joint.freedom_count();
+  }
+  s.tree_order_ = order;
+  s.k_ = nu;
+
+  // Check that every joint holds at t = 0 (the frames are built to coincide; the points of
+  // sliding joints and the parent side of a joint given by point_b must lie where stated).
+  {
+    const VecX c = s.constraints(s.q0_);
+    for (std::size_t j = 0; j < s.joints_.size(); ++j) {
+      const auto& J = s.joints_[j];
+      const double v = c.segment(J.row_offset, J.joint.constraint_count()).cwiseAbs().maxCoeff();
+      if (v > 1e-9)
+        fail(model.joints[j].source, fmt::format("joints[{}]", j),
+             fmt::format("not assembled at t = 0 (|Φ| = {:.3g})", v));
+    }
+  }
+
+  // Loop-closing rows: independent ones by full-pivot LU of G_cut P_tree (IGA-thesis Alg. 5.1,
+  // Rem. 5.5); the rest are redundant and dropped. Cross-checked by pivoted QR.
+  std::vector<int> cut_all;
+  for (const auto& J : s.joints_)
+    if (!J.tree)
+      for (int i = 0; i < J.joint.constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
+  for (int i = 0; i < 6 * N; ++i) s.selected_rows_.push_back(i);
+  for (const auto& J : s.joints_)
+    if (J.tree)
+      for (int i = 0; i < J.joint.constraint_count(); ++i)
+        s.selected_rows_.push_back(J.row_offset + i);
+  if (!cut_all.empty()) {
+    const MatX Gc = MatX(s.jacobian_rows(s.q0_, cut_all) * s.tree_null_space(s.q0_));
+    const auto keep = solve::independent_rows_lu(Gc);
+    s.cut_rank_qr_ = static_cast<int>(solve::independent_rows_qr(Gc).size());
+    std::vector<bool> kept(cut_all.size(), false);
+    for (int i : keep) kept[i] = true;
+    for (std::size_t i = 0; i < cut_all.size(); ++i) {
+      if (kept[i]) {
+        s.cut_rows_.push_back(cut_all[i]);
+        s.selected_rows_.push_back(cut_all[i]);
+      } else {
+        s.redundant_rows_.push_back(cut_all[i]);
+      }
+    }
+  }
+
+  // Initial velocities: the admissible twist closest (least squares in twist components) to the
+  // given body velocities, within the null space of the loop-closing rows.
+  VecX t_given = VecX::Zero(6 * N);
+  for (int i = 0; i < N; ++i) {
+    t_given.segment<3>(6 * i) = model.bodies[i].velocity;
+    t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
+  }
+  VecX nu0 = VecX::Zero(s.k_);
+  if (t_given.norm() > 0) {
+    const MatX E = MatX(s.twist_map(s.q0_));
+    if (s.cut_rows_.empty()) {
+      nu0 = solve::least_squares(E, t_given);
+    } else {
+      MatX W, U;
+      solve::qr_range_and_null_space(
+          MatX(s.jacobian_rows(s.q0_, s.cut_rows_) * s.tree_null_space(s.q0_)), W, U);
+      nu0 = U * solve::least_squares(E * U, t_given);
+    }
+    s.v0_error_ = (E * nu0 - t_given).norm() / std::max(1.0, t_given.norm());
+  }
+  s.v0_ = s.tree_null_space(s.q0_) * nu0;
+  return s;
+}
+
+double System::potential(const VecX& q) const {
+  double V = 0.0;
+  for (const auto& e : elements_) {
+    const auto& nodes = e->nodes();
+    VecX qe(12 * nodes.size());
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      qe.segment<12>(12 * a) = q.segment<12>(12 * nodes[a]);
+    V += e->potential(qe);
+  }
+  return V;
+}
+
+VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const {
+  VecX f = VecX::Zero(n());
+  Triplets t;
+  MatX Ke;
+  for (const auto& e : elements_) {
+    const auto& nodes = e->nodes();
+    const int ne = static_cast<int>(nodes.size());
+    VecX a(12 * ne), b(12 * ne);
+    for (int i = 0; i < ne; ++i) {
+      a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
+      b.segment<12>(12 * i) = qn1.segment<12>(12 * nodes[i]);
+    }
+    const VecX dv = e->discrete_gradient(a, b, K ? &Ke : nullptr);
+    for (int i = 0; i < ne; ++i) {
+      f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
+      if (K)
+        for (int j = 0; j < ne; ++j)
+          add_block(t, 12 * nodes[i], 12 * nodes[j], Ke.block<12, 12>(12 * i, 12 * j));
+    }
+  }
+  for (const auto& L : loads_) {
+    const int o = 12 * L.node();
+    const fn::Q qm = 0.5 * (qn.segment<12>(o) + qn1.segment<12>(o));
+    f.segment<12>(o) -= L.generalized_force(qm, t_mid);
+    if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
+  }
+  if (K) {
+    K->resize(n(), n());
+    K->setFromTriplets(t.begin(), t.end());
+  }
+  return f;
+}
+
+VecX System::constraints(const VecX& q) const {
+  VecX c(m_all_);
+  for (int i = 0; i < node_count(); ++i)
+    c.segment<6>(6 * i) = fn::constraints(q.segment<12>(12 * i));
+  for (const auto& J : joints_)
+    c.segment(J.row_offset, J.joint.constraint_count()) =
+        J.joint.constraints(node_q(q, J.parent), node_q(q, J.child));
+  return c;
+}
+
+SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
+  // Assemble all rows, then pick.
+  Triplets t;
+  for (int i = 0; i < node_count(); ++i)
+    add_block(t, 6 * i, 12 * i, fn::jacobian(q.segment<12>(12 * i)));
+  for (const auto& J : joints_) {
+    const MatX G = J.joint.jacobian(node_q(q, J.parent), node_q(q, J.child));
+    const int m = J.joint.constraint_count();
+    if (J.parent >= 0) add_block(t, J.row_offset, 12 * J.parent, G.leftCols<12>());
+    add_block(t, J.row_offset, 12 * J.child, G.block(0, 12, m, 12));
+  }
+  SpMat all(m_all_, n());
+  all.setFromTriplets(t.begin(), t.end());
+  Triplets s;
+  for (std::size_t i = 0; i < rows.size(); ++i) s.emplace_back(static_cast<int>(i), rows[i], 1.0);
+  SpMat S(static_cast<int>(rows.size()), m_all_);
+  S.setFromTriplets(s.begin(), s.end());
+  return S * all;
+}
+
+SpMat System::jacobian(const VecX& q) const {
+  return jacobian_rows(q, selected_rows_);
+}
+
+SpMat System::constraint_hessian(const VecX& lambda_sel) const {
+  VecX l = VecX::Zero(m_all_);
+  for (std::size_t i = 0; i < selected_rows_.size(); ++i) l(selected_rows_[i]) = lambda_sel(i);
+  Triplets t;
+  for (int i = 0; i < node_count(); ++i) {
+    Mat<12, 12> H = Mat<12, 12>::Zero();
+    fn::add_constraint_hessian(l.segment<6>(6 * i), H);
+    add_block(t, 12 * i, 12 * i, H);
+  }
+  for (const auto& J : joints_) {
+    Mat<24, 24> H = Mat<24, 24>::Zero();
+    J.joint.add_constraint_hessian(l.segment(J.row_offset, J.joint.constraint_count()), H);
+    const int nodes[2] = {J.parent, J.child};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        if (nodes[a] >= 0 && nodes[b] >= 0)
+          add_block(t, 12 * nodes[a], 12 * nodes[b], H.block<12, 12>(12 * a, 12 * b));
+  }
+  SpMat H(n(), n());
+  H.setFromTriplets(t.begin(), t.end());
+  return H;
+}
+
+SpMat System::twist_map(const VecX& q) const {
+  // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
+  using Blocks = std::vector<std::pair<int, MatX>>;
+  std::vector<Blocks> rows(node_count());
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    rows[roots_[r]].push_back({root_nu_offset_[r], MatX::Identity(6, 6)});
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    Blocks& out = rows[J.child];
+    if (J.parent >= 0) {
+      const Mat<6, 6> A = J.joint.parent_block(qa, qb);
+      for (const auto& [c, B] : rows[J.parent]) out.push_back({c, A * B});
+    }
+    if (J.joint.freedom_count() > 0) out.push_back({J.nu_offset, J.joint.freedom_block(qa, qb)});
+  }
+  Triplets t;
+  for (int i = 0; i < node_count(); ++i)
+    for (const auto& [c, B] : rows[i]) add_block(t, 6 * i, c, B);
+  SpMat E(6 * node_count(), k_);
+  E.setFromTriplets(t.begin(), t.end());
+  return E;
+}
+
+SpMat System::tree_null_space(const VecX& q) const {
+  Triplets t;
+  for (int i = 0; i < node_count(); ++i)
+    add_block(t, 12 * i, 6 * i, fn::null_space(q.segment<12>(12 * i)));
+  SpMat Pint(n(), 6 * node_count());
+  Pint.setFromTriplets(t.begin(), t.end());
+  return Pint * twist_map(q);
+}
+
+VecX System::update(const VecX& qn, const VecX& u) const {
+  VecX q = qn;
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    q.segment<12>(12 * i) = fn::update(qn.segment<12>(12 * i), u.segment<6>(root_nu_offset_[r]));
+  }
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    q.segment<12>(12 * J.child) =
+        J.joint.update(node_q(qn, J.parent), node_q(q, J.parent), node_q(qn, J.child),
+                       u.segment(J.nu_offset, J.joint.freedom_count()));
+  }
+  return q;
+}
+
+SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
+  Triplets t;
+  std::vector<bool> done(k_, false);
+  auto rot = [&](int o) {
+    add_block(t, o, o, rodrigues_tangent(u.segment<3>(o)));
+    for (int i = 0; i < 3; ++i) done[o + i] = true;
+  };
+  for (int o : root_nu_offset_) rot(o + 3);
+  for (int j : tree_order_) {
+    const int ro = joints_[j].joint.rotation_vector_offset();
+    if (ro >= 0) rot(joints_[j].nu_offset + ro);
+  }
+  for (int i = 0; i < k_; ++i)
+    if (!done[i]) t.emplace_back(i, i, 1.0);
+  SpMat D(k_, k_);
+  D.setFromTriplets(t.begin(), t.end());
+  return tree_null_space(update(qn, u)) * D;
+}
+
+Vec3 System::linear_momentum(const VecX& v) const {
+  const VecX p = M_ * v;
+  Vec3 s = Vec3::Zero();
+  for (int i = 0; i < node_count(); ++i) s += p.segment<3>(12 * i);
+  return s;
+}
+
+Vec3 System::angular_momentum(const VecX& q, const VecX& v) const {
+  const VecX p = M_ * v;
+  Vec3 L = Vec3::Zero();
+  for (int k = 0; k < n() / 3; ++k) L += q.segment<3>(3 * k).cross(p.segment<3>(3 * k));
+  return L;
+}
+
+Vec3 System::material_point(const VecX& q, int node, const Vec3& X) const {
+  const fn::Q qn = q.segment<12>(12 * node);
+  return fn::phi(qn) + fn::directors(qn) * X;
+}
+
+Vec3 System::material_velocity(const VecX&, const VecX& v, int node, const Vec3& X) const {
+  const fn::Q vn = v.segment<12>(12 * node);
+  return fn::phi(vn) + fn::directors(vn) * X;
+}
+
+std::string System::describe_forest(const model::Model& model) const {
+  std::string out;
+  for (int r : roots_) out += fmt::format("  root (free body): {}\n", model.bodies[r].name);
+  auto name = [&](int i) { return i < 0 ? std::string("ground") : model.bodies[i].name; };
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    out += fmt::format("  tree  {:<16} {:<13} {} -> {}  (r = {}){}\n", J.name,
+                       model::to_string(J.type), name(J.parent), name(J.child),
+                       J.joint.freedom_count(), J.reversed ? "  [reversed]" : "");
+  }
+  for (const auto& J : joints_)
+    if (!J.tree)
+      out += fmt::format("  cut   {:<16} {:<13} {} -- {}  (m = {}, loop-closing)\n", J.name,
+                         model::to_string(J.type), name(J.parent), name(J.child),
+                         J.joint.constraint_count());
+  return out;
+}
+
+}  // namespace isoflex::system

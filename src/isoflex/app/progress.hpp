@@ -1,0 +1,49 @@
+#pragma once
+// A one-line progress display on a terminal:
+//   [############..................]  42%  step 420  t=4.2000  it=3  ETA 00:05
+// redrawn at most ten times a second and finished with a newline. Writes nothing at all when
+// `out` is not a terminal (log files, pipes, tests).
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "isoflex/integrate/snapshot.hpp"
+
+namespace isoflex::app {
+
+class ProgressBar : public integrate::Observer {
+ public:
+  explicit ProgressBar(double t_end, std::FILE* out = stderr);
+  // Ends a line left open (a run aborted by an exception) so that messages start on a fresh line.
+  ~ProgressBar() override;
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+  bool active() const { return active_; }
+
+  // The text of the line (without carriage return); eta_seconds < 0 means unknown ("--:--").
+  static std::string format_line(double fraction, int step, double t, int iterations,
+                                 double eta_seconds);
+  // "mm:ss", or "h:mm:ss" from one hour on.
+  static std::string format_duration(double seconds);
+
+ private:
+  void draw(bool final);
+
+  double t_end_;
+  std::FILE* out_;
+  bool active_;
+  bool line_open_ = false;
+  bool have_snapshot_ = false;
+  int step_ = 0;
+  double t_ = 0.0;
+  double t_start_ = 0.0;
+  int iterations_ = 0;
+  std::chrono::steady_clock::time_point wall_start_{};
+  std::chrono::steady_clock::time_point last_draw_{};
+};
+
+}  // namespace isoflex::app

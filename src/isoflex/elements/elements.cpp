@@ -1,1 +1,0 @@
-// (room elements: sources follow)

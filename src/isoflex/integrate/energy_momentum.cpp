@@ -1,0 +1,252 @@
+#include "isoflex/integrate/energy_momentum.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "isoflex/math/frame_node.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+
+namespace isoflex::integrate {
+
+using system::SpMat;
+using F = model::Formulation;
+
+struct EnergyMomentumIntegrator::StepContext {
+  const State* s;
+  double dt, t_mid;
+  // Loop-closing rows: range W and null space U of (G_cut P_tree)ᵀ at q_n (DNSM-III (12)).
+  MatX W, U;
+};
+
+EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
+                                                   const model::Solver& settings)
+    : sys_(sys), settings_(settings) {}
+
+int EnergyMomentumIntegrator::unknowns() const {
+  switch (settings_.formulation) {
+    case F::constrained:
+      return sys_.n() + sys_.m_selected();
+    case F::nullspace:
+      return sys_.n();
+    case F::reparametrized:
+      return sys_.k();
+  }
+  return 0;
+}
+
+State EnergyMomentumIntegrator::initial_state() const {
+  return {0, 0.0, sys_.q0(), sys_.v0()};
+}
+
+EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const State& s) const {
+  StepContext c{&s, settings_.dt, s.t + 0.5 * settings_.dt, {}, {}};
+  if (settings_.formulation != F::constrained && !sys_.cut_rows().empty()) {
+    const MatX Gc = MatX(sys_.jacobian_rows(s.q, sys_.cut_rows()) * sys_.tree_null_space(s.q));
+    solve::qr_range_and_null_space(Gc, c.W, c.U);
+  }
+  return c;
+}
+
+VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
+  switch (settings_.formulation) {
+    case F::constrained: {
+      VecX x = VecX::Zero(unknowns());
+      x.head(sys_.n()) = s.q;
+      return x;
+    }
+    case F::nullspace:
+      return s.q;
+    case F::reparametrized:
+      return VecX::Zero(sys_.k());
+  }
+  return {};
+}
+
+VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x) const {
+  switch (settings_.formulation) {
+    case F::constrained:
+      return x.head(sys_.n());
+    case F::nullspace:
+      return x;
+    case F::reparametrized:
+      return sys_.update(c.s->q, x);
+  }
+  return {};
+}
+
+namespace {
+void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (SpMat::InnerIterator it(A, k); it; ++it)
+      t.emplace_back(r0 + it.row(), c0 + it.col(), it.value());
+}
+}  // namespace
+
+VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, SpMat* J) const {
+  const State& s = *c.s;
+  const double dt = c.dt;
+  const int n = sys_.n();
+  const VecX q1 = configuration(c, x);
+  const VecX qm = 0.5 * (s.q + q1);
+  const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
+  SpMat Kf;
+  const VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
+  const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
+  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
+  const int m = sys_.m_selected();
+  system::Triplets t;
+
+  if (settings_.formulation == F::constrained) {
+    const VecX lambda = x.tail(m);
+    VecX R(n + m);
+    R.head(n) = r0 + dt * (Gm.transpose() * lambda);
+    const VecX phi = sys_.constraints(q1);
+    for (int i = 0; i < m; ++i) R(n + i) = phi(sys_.selected_rows()[i]);
+    if (J) {
+      const SpMat K =
+          (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+      append(t, K, 0, 0);
+      append(t, SpMat(dt * SpMat(Gm.transpose())), 0, n);
+      append(t, sys_.jacobian(q1), n, 0);
+      J->resize(n + m, n + m);
+      J->setFromTriplets(t.begin(), t.end());
+    }
+    return R;
+  }
+
+  // Discrete null space 𝖯 = P_tree(q_{n+½}) 𝖯_cut.
+  SpMat P = sys_.tree_null_space(qm);
+  const bool cuts = !sys_.cut_rows().empty();
+  if (cuts) {
+    const MatX Gc = MatX(sys_.jacobian_rows(qm, sys_.cut_rows()) * P);
+    const MatX GW = Gc * c.W;
+    const MatX Pc = c.U - c.W * GW.partialPivLu().solve(Gc * c.U);  // (13)
+    P = (P * Pc).sparseView();
+  }
+  const int kred = static_cast<int>(P.cols());
+  const std::vector<int>& con_rows =
+      settings_.formulation == F::nullspace ? sys_.selected_rows() : sys_.cut_rows();
+  const int mc = static_cast<int>(con_rows.size());
+  VecX R(kred + mc);
+  R.head(kred) = P.transpose() * r0;
+  const VecX phi = sys_.constraints(q1);
+  for (int i = 0; i < mc; ++i) R(kred + i) = phi(con_rows[i]);
+  if (J) {
+    // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares), see the header.
+    const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
+    const SpMat K =
+        (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+    SpMat dq;  // ∂q_{n+1}/∂x
+    if (settings_.formulation == F::nullspace) {
+      dq.resize(n, n);
+      dq.setIdentity();
+    } else {
+      dq = sys_.update_derivative(s.q, x);
+    }
+    append(t, SpMat(SpMat(P.transpose()) * (K * dq)), 0, 0);
+    append(t, SpMat(sys_.jacobian_rows(q1, con_rows) * dq), kred, 0);
+    J->resize(kred + mc, static_cast<int>(dq.cols()));
+    J->setFromTriplets(t.begin(), t.end());
+  }
+  return R;
+}
+
+VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) const {
+  const StepContext c = context(s);
+  SpMat Js;
+  const VecX R = evaluate(c, x, J ? &Js : nullptr);
+  if (J) *J = MatX(Js);
+  return R;
+}
+
+StepStats EnergyMomentumIntegrator::step(State& s) const {
+  const StepContext c = context(s);
+  // Residual scale: the momentum terms that cancel in r₀, so that the tolerance is relative to
+  // the round-off level of the equations.
+  const double ref = std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
+                                       (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
+  VecX x = start_unknowns(s);
+  StepStats st;
+  SpMat J;
+  bool converged = false;
+  for (int it = 0; it <= settings_.max_iterations; ++it) {
+    const VecX R = evaluate(c, x, &J);
+    st.residual = R.lpNorm<Eigen::Infinity>();
+    st.iterations = it;
+    if (!std::isfinite(st.residual)) break;
+    if (st.residual <= settings_.residual_tolerance * ref) {
+      converged = true;
+      break;
+    }
+    if (it == settings_.max_iterations) break;
+    VecX dx;
+    try {
+      dx = solve::solve(J, -R);
+    } catch (const std::exception& e) {
+      throw NewtonFailure(
+          fmt::format("step {} (t = {:.6g}): {} at Newton iteration {}, residual {:.3e}",
+                      s.step + 1, s.t + c.dt, e.what(), it + 1, st.residual));
+    }
+    x += dx;
+    // A correction at round-off level leaves an error of its square: done.
+    if (dx.lpNorm<Eigen::Infinity>() <=
+        settings_.increment_tolerance * std::max(1.0, x.lpNorm<Eigen::Infinity>())) {
+      st.iterations = it + 1;
+      st.residual = evaluate(c, x, nullptr).lpNorm<Eigen::Infinity>();
+      converged = std::isfinite(st.residual);
+      break;
+    }
+  }
+  if (!converged) {
+    throw NewtonFailure(fmt::format(
+        "step {} (t = {:.6g}): Newton did not converge in {} iterations; residual {:.3e} "
+        "(tolerance {:.1e} x scale {:.3e})",
+        s.step + 1, s.t + c.dt, st.iterations, st.residual, settings_.residual_tolerance, ref));
+  }
+  const VecX q1 = configuration(c, x);
+  s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
+  s.q = q1;
+  s.t += c.dt;
+  ++s.step;
+  return st;
+}
+
+Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
+                                            const std::vector<std::string>& body_names) const {
+  Snapshot out;
+  out.step = s.step;
+  out.t = s.t;
+  out.kinetic_energy = 0.5 * s.v.dot(sys_.mass() * s.v);
+  out.potential_energy = sys_.potential(s.q);
+  out.total_energy = out.kinetic_energy + out.potential_energy;
+  out.linear_momentum = sys_.linear_momentum(s.v);
+  out.angular_momentum = sys_.angular_momentum(s.q, s.v);
+  out.constraint_violation = sys_.constraints(s.q).lpNorm<Eigen::Infinity>();
+  out.newton_iterations = st.iterations;
+  out.residual = st.residual;
+  for (int i = 0; i < sys_.node_count(); ++i) {
+    const frame_node::Q q = s.q.segment<12>(12 * i), v = s.v.segment<12>(12 * i);
+    BodyPose b;
+    b.name = i < static_cast<int>(body_names.size()) ? body_names[i] : std::string();
+    b.position = frame_node::phi(q);
+    b.directors = frame_node::directors(q);
+    b.velocity = frame_node::phi(v);
+    Vec3 w = Vec3::Zero();  // ω = ½ Σ d_I × ḋ_I
+    for (int I = 0; I < 3; ++I)
+      w += 0.5 * frame_node::director(q, I).cross(frame_node::director(v, I));
+    b.angular_velocity = w;
+    out.bodies.push_back(b);
+  }
+  for (const auto& p : sys_.probes()) {
+    ProbeValue pv;
+    pv.name = p.name;
+    pv.position = sys_.material_point(s.q, p.node, p.X);
+    pv.displacement = pv.position - sys_.material_point(sys_.q0(), p.node, p.X);
+    pv.velocity = sys_.material_velocity(s.q, s.v, p.node, p.X);
+    out.probes.push_back(pv);
+  }
+  return out;
+}
+
+}  // namespace isoflex::integrate

@@ -1,0 +1,71 @@
+#pragma once
+// The three energy–momentum formulations of DNSM-III, all on the same element kernels
+// (docs/theory/schemes.md). With v_{n+1} = (2/Δt)(q_{n+1} − q_n) − v_n inserted,
+//   r₀(q_{n+1}) = M (v_{n+1} − v_n) + Δt [DV(q_n, q_{n+1}) − f_ext(q_{n+½}, t_{n+½})],
+//   constrained (9):      r₀ + Δt 𝖦ᵀ λ = 0,  Φ(q_{n+1}) = 0;     unknowns (q_{n+1}, λ), n + m
+//   null space (11):      𝖯ᵀ r₀ = 0,         Φ(q_{n+1}) = 0;     unknowns q_{n+1},      n
+//   reparametrized (14):  𝖯ᵀ r₀(F(u)) = 0,   Φ_cut(F(u)) = 0;    unknowns u,            n − m
+//                                                                 (+ independent loop rows)
+// with 𝖦 = G(q_{n+½}) (all constraints are at most quadratic, (23)), 𝖯 = P_tree(q_{n+½}) for
+// the internal and tree joint constraints (Table 3, iii.1) times the implicit null space (13) of
+// the loop-closing rows (iii.3).
+//
+// Newton tangent. The derivative of 𝖯ᵀ r₀ contains (∂𝖯ᵀ/∂q) r₀. Differentiating the identity
+// 𝖯ᵀ(q) 𝖦ᵀ(q) ≡ 0 gives (∂𝖯ᵀ·δq) 𝖦ᵀλ = −½ 𝖯ᵀ (Σ λᵢ Hᵢ) δq, and at the solution r₀ = −Δt 𝖦ᵀλ,
+// so the term equals ½ Δt 𝖯ᵀ (Σ λᵢ Hᵢ) δq with the constraint Hessians Hᵢ (constant). λ is
+// estimated in every iteration by least squares from r₀ ≈ −Δt 𝖦ᵀλ; the tangent is then exact at
+// the solution and Newton converges quadratically (tests/integrate).
+#include <stdexcept>
+
+#include "isoflex/integrate/snapshot.hpp"
+#include "isoflex/model/model.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::integrate {
+
+class NewtonFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct State {
+  int step = 0;
+  double t = 0.0;
+  VecX q, v;
+};
+
+struct StepStats {
+  int iterations = 0;
+  double residual = 0.0;  // ‖R‖∞ at the last evaluation
+};
+
+class EnergyMomentumIntegrator {
+ public:
+  EnergyMomentumIntegrator(const system::System& sys, const model::Solver& settings);
+
+  model::Formulation formulation() const { return settings_.formulation; }
+  // Size of the linear system solved per Newton iteration.
+  int unknowns() const;
+  State initial_state() const;
+  // Advances s by one step; throws NewtonFailure when Newton does not converge.
+  StepStats step(State& s) const;
+
+  // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
+  // condition numbers). start_unknowns(s) is the Newton start value (q_{n+1} = q_n).
+  VecX start_unknowns(const State& s) const;
+  VecX residual(const State& s, const VecX& x, MatX* J) const;
+
+  Snapshot snapshot(const State& s, const StepStats& st,
+                    const std::vector<std::string>& body_names) const;
+
+ private:
+  struct StepContext;
+  StepContext context(const State& s) const;
+  VecX evaluate(const StepContext& c, const VecX& x, system::SpMat* J) const;
+  VecX configuration(const StepContext& c, const VecX& x) const;
+
+  const system::System& sys_;
+  model::Solver settings_;
+};
+
+}  // namespace isoflex::integrate

@@ -1,0 +1,507 @@
+#include "isoflex/io/model_reader.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "isoflex/loads/time_function.hpp"
+
+namespace isoflex::io {
+
+namespace {
+
+using model::Body;
+using model::Joint;
+using model::JointType;
+using model::Load;
+using model::Model;
+using model::Probe;
+using model::Shape;
+using model::ShapeKind;
+
+constexpr double kTriadTolerance = 1e-9;          // orthonormality of `orientation`
+constexpr double kPerpendicularTolerance = 1e-9;  // |cos| of axis and axis2 (universal)
+constexpr double kTriangleTolerance = 1e-12;      // relative slack in the triangle inequalities
+
+std::string join(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+std::string indexed(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+std::string list_names(std::initializer_list<const char*> names) {
+  std::string s;
+  for (const char* n : names) {
+    if (!s.empty()) s += ", ";
+    s += n;
+  }
+  return s;
+}
+
+constexpr std::initializer_list<const char*> kJointTypeNames = {
+    "spherical", "revolute", "prismatic",     "cylindrical", "planar",
+    "universal", "rigid",    "point_on_line", "fixed"};
+
+bool needs_axis(JointType t) {
+  switch (t) {
+    case JointType::revolute:
+    case JointType::prismatic:
+    case JointType::cylindrical:
+    case JointType::planar:
+    case JointType::universal:
+    case JointType::point_on_line:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool needs_point(JointType t) {
+  return t != JointType::rigid && t != JointType::fixed;
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  Model read(const YAML::Node& root) {
+    if (!root.IsMap())
+      fail(root, "", "a model file must be a YAML mapping with the keys name, gravity, ...");
+    expect_map(root, "");
+    check_keys(root, "",
+               {"name", "gravity", "solver", "output", "bodies", "joints", "loads", "probes"});
+    Model m;
+    m.file = file_;
+    if (const auto n = root["name"]) m.name = string(n, "name");
+    if (const auto n = root["gravity"]) m.gravity = vec3(n, "gravity");
+    if (const auto n = root["solver"]) read_solver(n, m.solver);
+    if (const auto n = root["output"]) read_output(n, m.output);
+
+    const YAML::Node bodies = require(root, "", "bodies");
+    if (!bodies.IsSequence() || bodies.size() == 0)
+      fail(bodies, "bodies", "expected a non-empty list of bodies");
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      m.bodies.push_back(read_body(bodies[i], indexed("bodies", i)));
+
+    if (const auto list = optional_list(root, "joints"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.joints.push_back(read_joint(list[i], indexed("joints", i), i));
+    if (const auto list = optional_list(root, "loads"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.loads.push_back(read_load(list[i], indexed("loads", i), i));
+    if (const auto list = optional_list(root, "probes"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.probes.push_back(read_probe(list[i], indexed("probes", i)));
+    return m;
+  }
+
+ private:
+  // ---- messages ---------------------------------------------------------------------------
+
+  // 1-based line of `n`. yaml-cpp marks an empty value (`mass:` with nothing after it) at the
+  // next token, so those take the line of their key, noted by expect_map.
+  int line_of(const YAML::Node& n) const {
+    if (n.IsNull())
+      for (const auto& [node, line] : null_lines_)
+        if (node.is(n)) return line;
+    const int line = n.Mark().line;
+    return line >= 0 ? line + 1 : 1;
+  }
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key,
+                         const std::string& message) const {
+    throw ModelError(file_, line_of(at), key, message);
+  }
+
+  model::Source source(const YAML::Node& n) const { return {file_, line_of(n)}; }
+
+  // ---- structure --------------------------------------------------------------------------
+
+  void expect_map(const YAML::Node& n, const std::string& path) const {
+    if (!n.IsMap()) fail(n, path, "expected a mapping of keys");
+    for (auto it = n.begin(); it != n.end(); ++it)
+      if (it->second.IsNull()) null_lines_.emplace_back(it->second, line_of(it->first));
+  }
+
+  // Every key of the mapping `n` must be one of `allowed` and appear once.
+  void check_keys(const YAML::Node& n, const std::string& path,
+                  std::initializer_list<const char*> allowed) const {
+    std::map<std::string, int> seen;
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const YAML::Node key = it->first;
+      if (!key.IsScalar()) fail(key, path, "keys must be plain names");
+      const std::string& name = key.Scalar();
+      bool known = false;
+      for (const char* a : allowed) known = known || name == a;
+      if (!known)
+        fail(key, join(path, name), "unknown key (valid keys: " + list_names(allowed) + ")");
+      if (const auto [pos, inserted] = seen.emplace(name, line_of(key)); !inserted)
+        fail(key, join(path, name), fmt::format("duplicate key (first at line {})", pos->second));
+    }
+  }
+
+  YAML::Node require(const YAML::Node& map, const std::string& path, const char* key) const {
+    const YAML::Node n = map[key];
+    if (!n) fail(map, join(path, key), "missing required key");
+    return n;
+  }
+
+  // An optional list; an empty value (`joints:` with nothing after it) is an empty list.
+  YAML::Node optional_list(const YAML::Node& root, const char* key) const {
+    const YAML::Node n = root[key];
+    if (!n || n.IsNull()) return YAML::Node(YAML::NodeType::Undefined);
+    if (!n.IsSequence()) fail(n, key, "expected a list");
+    return n;
+  }
+
+  // ---- scalars and vectors ----------------------------------------------------------------
+
+  std::string string(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, "expected a string");
+    return n.Scalar();
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    double x = 0.0;
+    if (!n.IsScalar() || !YAML::convert<double>::decode(n, x)) fail(n, key, "expected a number");
+    if (!std::isfinite(x)) fail(n, key, "must be a finite number");
+    return x;
+  }
+
+  double positive(const YAML::Node& n, const std::string& key) const {
+    const double x = number(n, key);
+    if (!(x > 0.0)) fail(n, key, fmt::format("must be > 0, got {}", x));
+    return x;
+  }
+
+  int integer(const YAML::Node& n, const std::string& key, int min) const {
+    int k = 0;
+    if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");
+    if (k < min) fail(n, key, fmt::format("must be >= {}, got {}", min, k));
+    return k;
+  }
+
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    bool b = false;
+    if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b)) fail(n, key, "expected true or false");
+    return b;
+  }
+
+  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected a list of 3 numbers [x, y, z]");
+    Vec3 v;
+    for (std::size_t i = 0; i < 3; ++i) v(i) = number(n[i], indexed(key, i));
+    return v;
+  }
+
+  Vec3 positive_vec3(const YAML::Node& n, const std::string& key) const {
+    const Vec3 v = vec3(n, key);
+    for (std::size_t i = 0; i < 3; ++i)
+      if (!(v(i) > 0.0)) fail(n[i], indexed(key, i), fmt::format("must be > 0, got {}", v(i)));
+    return v;
+  }
+
+  // A nonzero direction, returned normalized.
+  Vec3 direction(const YAML::Node& n, const std::string& key) const {
+    const Vec3 v = vec3(n, key);
+    const double norm = v.stableNorm();
+    if (!(norm > 0.0)) fail(n, key, "must be a nonzero vector");
+    return v / norm;
+  }
+
+  // Three time functions (numbers or expression strings in t), each compiled once to validate.
+  std::array<std::string, 3> functions(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 3)
+      fail(n, key, "expected a list of 3 numbers or expressions in t");
+    std::array<std::string, 3> f;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const YAML::Node c = n[i];
+      if (!c.IsScalar()) fail(c, indexed(key, i), "expected a number or an expression in t");
+      f[i] = c.Scalar();
+      try {
+        loads::TimeFunction check(f[i]);
+      } catch (const std::invalid_argument& e) {
+        fail(c, indexed(key, i), e.what());
+      }
+    }
+    return f;
+  }
+
+  // ---- blocks -----------------------------------------------------------------------------
+
+  void read_solver(const YAML::Node& n, model::Solver& s) const {
+    if (n.IsNull()) return;
+    expect_map(n, "solver");
+    check_keys(n, "solver",
+               {"formulation", "dt", "t_end", "residual_tolerance", "increment_tolerance",
+                "max_iterations"});
+    if (const auto v = n["formulation"]) {
+      const std::string name = string(v, "solver.formulation");
+      const auto f = model::formulation_from_string(name);
+      if (!f)
+        fail(
+            v, "solver.formulation",
+            "unknown formulation \"" + name + "\" (valid: constrained, nullspace, reparametrized)");
+      s.formulation = *f;
+    }
+    if (const auto v = n["dt"]) s.dt = positive(v, "solver.dt");
+    if (const auto v = n["t_end"]) s.t_end = positive(v, "solver.t_end");
+    if (const auto v = n["residual_tolerance"])
+      s.residual_tolerance = positive(v, "solver.residual_tolerance");
+    if (const auto v = n["increment_tolerance"])
+      s.increment_tolerance = positive(v, "solver.increment_tolerance");
+    if (const auto v = n["max_iterations"])
+      s.max_iterations = integer(v, "solver.max_iterations", 1);
+  }
+
+  void read_output(const YAML::Node& n, model::Output& o) const {
+    if (n.IsNull()) return;
+    expect_map(n, "output");
+    check_keys(n, "output", {"vtk_every", "history"});
+    if (const auto v = n["vtk_every"]) o.vtk_every = integer(v, "output.vtk_every", 0);
+    if (const auto v = n["history"]) o.history = boolean(v, "output.history");
+  }
+
+  Body read_body(const YAML::Node& n, const std::string& p) {
+    expect_map(n, p);
+    check_keys(n, p,
+               {"name", "mass", "inertia", "position", "orientation", "velocity",
+                "angular_velocity", "shape"});
+    Body b;
+    b.source = source(n);
+
+    const YAML::Node name = require(n, p, "name");
+    b.name = string(name, join(p, "name"));
+    if (b.name.empty()) fail(name, join(p, "name"), "must not be empty");
+    if (b.name == "ground")
+      fail(name, join(p, "name"), "\"ground\" is reserved for the fixed space");
+    if (const auto [pos, inserted] = body_lines_.emplace(b.name, line_of(name)); !inserted)
+      fail(name, join(p, "name"),
+           fmt::format("duplicate body name \"{}\" (first at line {})", b.name, pos->second));
+
+    b.mass = positive(require(n, p, "mass"), join(p, "mass"));
+
+    const YAML::Node inertia = require(n, p, "inertia");
+    b.inertia = positive_vec3(inertia, join(p, "inertia"));
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      const double sum = b.inertia(j) + b.inertia(k);
+      if (b.inertia(i) > sum * (1.0 + kTriangleTolerance))
+        fail(inertia, join(p, "inertia"),
+             fmt::format("principal moments violate the triangle inequality J{} <= J{} + J{} "
+                         "({} > {})",
+                         i + 1, j + 1, k + 1, b.inertia(i), sum));
+    }
+
+    b.position = vec3(require(n, p, "position"), join(p, "position"));
+    if (const auto v = n["orientation"]) b.orientation = triad(v, join(p, "orientation"));
+    if (const auto v = n["velocity"]) b.velocity = vec3(v, join(p, "velocity"));
+    if (const auto v = n["angular_velocity"])
+      b.angular_velocity = vec3(v, join(p, "angular_velocity"));
+    if (const auto v = n["shape"]) b.shape = read_shape(v, join(p, "shape"));
+    return b;
+  }
+
+  // Rows of the YAML list are d₁, d₂, d₃; they become the columns of the returned matrix.
+  Mat3 triad(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 3)
+      fail(n, key, "expected a list of the three principal axes [d1, d2, d3]");
+    Mat3 R;
+    for (std::size_t i = 0; i < 3; ++i) R.col(i) = vec3(n[i], indexed(key, i));
+    const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (!(defect <= kTriadTolerance) || !(R.determinant() > 0.0))
+      fail(n, key, "orientation is not an orthonormal right-handed triad");
+    return R;
+  }
+
+  Shape read_shape(const YAML::Node& n, const std::string& p) const {
+    expect_map(n, p);
+    Shape s;
+    const YAML::Node type = require(n, p, "type");
+    const std::string name = string(type, join(p, "type"));
+    if (name == "box") {
+      s.kind = ShapeKind::box;
+      check_keys(n, p, {"type", "size", "offset"});
+      s.size = positive_vec3(require(n, p, "size"), join(p, "size"));
+    } else if (name == "sphere") {
+      s.kind = ShapeKind::sphere;
+      check_keys(n, p, {"type", "radius", "offset"});
+      s.radius = positive(require(n, p, "radius"), join(p, "radius"));
+    } else if (name == "cylinder") {
+      s.kind = ShapeKind::cylinder;
+      check_keys(n, p, {"type", "radius", "height", "offset"});
+      s.radius = positive(require(n, p, "radius"), join(p, "radius"));
+      s.height = positive(require(n, p, "height"), join(p, "height"));
+    } else if (name == "pyramid") {
+      s.kind = ShapeKind::pyramid;
+      check_keys(n, p, {"type", "base", "height", "offset"});
+      s.base = positive(require(n, p, "base"), join(p, "base"));
+      s.height = positive(require(n, p, "height"), join(p, "height"));
+    } else {
+      fail(type, join(p, "type"),
+           "unknown shape type \"" + name + "\" (valid: box, sphere, cylinder, pyramid)");
+    }
+    if (const auto v = n["offset"]) s.offset = vec3(v, join(p, "offset"));
+    return s;
+  }
+
+  // A reference to a body by name; `allow_ground` admits "ground".
+  std::string body_ref(const YAML::Node& n, const std::string& key, bool allow_ground) const {
+    const std::string name = string(n, key);
+    if (name == "ground") {
+      if (!allow_ground) fail(n, key, "must name a body, not the fixed space \"ground\"");
+      return name;
+    }
+    if (!body_lines_.contains(name)) fail(n, key, "no body named \"" + name + "\"");
+    return name;
+  }
+
+  Joint read_joint(const YAML::Node& n, const std::string& p, std::size_t index) {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "type", "body_a", "body_b", "point", "point_b", "axis", "axis2"});
+    Joint j;
+    j.source = source(n);
+
+    const YAML::Node name = n["name"];
+    j.name = name ? string(name, join(p, "name")) : "joint" + std::to_string(index);
+    if (j.name.empty()) fail(name, join(p, "name"), "must not be empty");
+    if (const auto [pos, inserted] = joint_lines_.emplace(j.name, line_of(name ? name : n));
+        !inserted)
+      fail(name ? name : n, join(p, "name"),
+           fmt::format("duplicate joint name \"{}\" (first at line {})", j.name, pos->second));
+
+    const YAML::Node type = require(n, p, "type");
+    const std::string type_name = string(type, join(p, "type"));
+    const auto t = model::joint_type_from_string(type_name);
+    if (!t)
+      fail(type, join(p, "type"),
+           "unknown joint type \"" + type_name + "\" (valid: " + list_names(kJointTypeNames) + ")");
+    j.type = *t;
+
+    if (const auto v = n["body_a"]) j.body_a = body_ref(v, join(p, "body_a"), true);
+    const YAML::Node body_b = require(n, p, "body_b");
+    j.body_b = body_ref(body_b, join(p, "body_b"), false);
+    if (j.body_a == j.body_b)
+      fail(body_b, join(p, "body_b"), "body_a and body_b are the same body \"" + j.body_b + "\"");
+
+    const YAML::Node point = n["point"];
+    const YAML::Node point_b = n["point_b"];
+    if (point && point_b)
+      fail(point_b, join(p, "point_b"), "give either point or point_b, not both");
+    if (point) j.point = vec3(point, join(p, "point"));
+    if (point_b) j.point_b = vec3(point_b, join(p, "point_b"));
+    if (needs_point(j.type) && !point && !point_b)
+      fail(n, join(p, "point"),
+           fmt::format("missing required key for a {} joint (or give point_b)", type_name));
+
+    const YAML::Node axis = n["axis"];
+    if (needs_axis(j.type)) {
+      if (!axis)
+        fail(n, join(p, "axis"), fmt::format("missing required key for a {} joint", type_name));
+      j.axis = direction(axis, join(p, "axis"));
+    } else if (axis) {
+      fail(axis, join(p, "axis"), fmt::format("not allowed for a {} joint", type_name));
+    }
+
+    const YAML::Node axis2 = n["axis2"];
+    if (j.type == JointType::universal) {
+      if (!axis2) fail(n, join(p, "axis2"), "missing required key for a universal joint");
+      j.axis2 = direction(axis2, join(p, "axis2"));
+      const double c = j.axis->dot(*j.axis2);
+      if (!(std::abs(c) < kPerpendicularTolerance))
+        fail(axis2, join(p, "axis2"),
+             fmt::format("must be perpendicular to axis (cosine of the angle {})", c));
+    } else if (axis2) {
+      fail(axis2, join(p, "axis2"),
+           fmt::format("not allowed for a {} joint (only universal)", type_name));
+    }
+    return j;
+  }
+
+  Load read_load(const YAML::Node& n, const std::string& p, std::size_t index) const {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "body", "force", "moment", "point", "point_local"});
+    Load l;
+    l.source = source(n);
+    if (const auto v = n["name"]) {
+      l.name = string(v, join(p, "name"));
+    } else {
+      l.name = "load" + std::to_string(index);
+    }
+    l.body = body_ref(require(n, p, "body"), join(p, "body"), false);
+    if (const auto v = n["force"]) l.force = functions(v, join(p, "force"));
+    if (const auto v = n["moment"]) l.moment = functions(v, join(p, "moment"));
+    if (!l.force && !l.moment) fail(n, p, "at least one of force and moment is required");
+    read_point(n, p, l.point, l.point_local);
+    return l;
+  }
+
+  Probe read_probe(const YAML::Node& n, const std::string& p) {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "body", "point", "point_local"});
+    Probe r;
+    r.source = source(n);
+    const YAML::Node name = require(n, p, "name");
+    r.name = string(name, join(p, "name"));
+    if (r.name.empty()) fail(name, join(p, "name"), "must not be empty");
+    if (const auto [pos, inserted] = probe_lines_.emplace(r.name, line_of(name)); !inserted)
+      fail(name, join(p, "name"),
+           fmt::format("duplicate probe name \"{}\" (first at line {})", r.name, pos->second));
+    r.body = body_ref(require(n, p, "body"), join(p, "body"), false);
+    read_point(n, p, r.point, r.point_local);
+    return r;
+  }
+
+  void read_point(const YAML::Node& n, const std::string& p, std::optional<Vec3>& point,
+                  std::optional<Vec3>& point_local) const {
+    const YAML::Node global = n["point"];
+    const YAML::Node local = n["point_local"];
+    if (global && local)
+      fail(local, join(p, "point_local"), "give either point or point_local, not both");
+    if (global) point = vec3(global, join(p, "point"));
+    if (local) point_local = vec3(local, join(p, "point_local"));
+  }
+
+  std::string file_;
+  std::map<std::string, int> body_lines_;  // name → line of its definition
+  std::map<std::string, int> joint_lines_;
+  std::map<std::string, int> probe_lines_;
+  mutable std::vector<std::pair<YAML::Node, int>> null_lines_;  // empty values → their key's line
+};
+
+}  // namespace
+
+model::Model read_model_string(const std::string& yaml, const std::string& name_for_messages) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw ModelError(name_for_messages, e.mark.line >= 0 ? e.mark.line + 1 : 1, "", e.msg);
+  }
+  return Reader(name_for_messages).read(root);
+}
+
+model::Model read_model(const std::string& path) {
+  std::error_code ec;
+  std::ifstream in;
+  if (std::filesystem::is_regular_file(path, ec)) in.open(path, std::ios::binary);
+  if (!in.is_open()) throw ModelError(path, 0, "", "cannot open model file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ModelError(path, 0, "", "cannot read model file");
+  return read_model_string(text.str(), path);
+}
+
+}  // namespace isoflex::io

@@ -1,0 +1,49 @@
+#pragma once
+// summary.json: the facts of one run (sizes, effort, accuracy, final probe values), written by hand
+// as JSON. Doubles are written with 17 significant digits; NaN and ±inf become null.
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "isoflex/integrate/snapshot.hpp"
+
+namespace isoflex::io {
+
+struct RunSummary {
+  std::string model;
+  std::string formulation;
+  int n_coordinates = 0;
+  int n_constraints = 0;
+  int n_unknowns = 0;
+  int n_redundant_constraints = 0;
+  int steps = 0;
+  int newton_iterations_total = 0;
+  double dt = 0.0;
+  double t_end = 0.0;
+  double wall_time_s = 0.0;
+  double max_constraint_violation = 0.0;
+  double energy_initial = 0.0;
+  double energy_final = 0.0;
+  // max |E − E_ref| / |E_ref| after the last load has ceased (NaN when not applicable)
+  double max_energy_drift_after_loads = 0.0;
+  std::vector<integrate::ProbeValue> probes;
+  std::string status = "completed";  // "completed" or "failed"
+  std::string message;
+};
+
+// Writes `s` as a JSON object to `file` atomically (temporary file, then rename).
+// Throws std::runtime_error when the file cannot be written.
+void write_summary_json(const std::filesystem::path& file, const RunSummary& s);
+
+// The JSON text written by write_summary_json.
+std::string summary_json(const RunSummary& s);
+
+// `text` as a JSON string literal, quotes included.
+std::string json_string(std::string_view text);
+
+// Writes `content` to `file.tmp`, then renames it to `file`, so that readers see either the old
+// or the new complete file. Creates missing parent directories. Throws std::runtime_error.
+void write_file_atomic(const std::filesystem::path& file, std::string_view content);
+
+}  // namespace isoflex::io

@@ -1,0 +1,400 @@
+#include "isoflex/io/vtk_writer.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <numbers>
+#include <stdexcept>
+#include <system_error>
+
+#include "isoflex/io/summary_writer.hpp"
+
+namespace isoflex::io {
+
+namespace {
+
+// Collects points (in body coordinates) and cells; transformed to the pose at the end.
+class MeshBuilder {
+ public:
+  int point(const Vec3& X) {
+    local_.push_back(X);
+    return static_cast<int>(local_.size()) - 1;
+  }
+  void cell(std::initializer_list<int> ids, unsigned char type, int part) {
+    mesh_.connectivity.insert(mesh_.connectivity.end(), ids.begin(), ids.end());
+    close(type, part);
+  }
+  void cell(const std::vector<int>& ids, unsigned char type, int part) {
+    mesh_.connectivity.insert(mesh_.connectivity.end(), ids.begin(), ids.end());
+    close(type, part);
+  }
+  BodyMesh finish(const integrate::BodyPose& pose) {
+    const Mat3& R = pose.directors;
+    mesh_.points.reserve(local_.size());
+    mesh_.velocities.reserve(local_.size());
+    for (const Vec3& X : local_) {
+      const Vec3 r = R * X;
+      mesh_.points.push_back(pose.position + r);
+      mesh_.velocities.push_back(pose.velocity + pose.angular_velocity.cross(r));
+    }
+    return std::move(mesh_);
+  }
+
+ private:
+  void close(unsigned char type, int part) {
+    mesh_.offsets.push_back(static_cast<int>(mesh_.connectivity.size()));
+    mesh_.types.push_back(type);
+    mesh_.parts.push_back(part);
+  }
+  std::vector<Vec3> local_;
+  BodyMesh mesh_;
+};
+
+void add_box(MeshBuilder& m, const model::Shape& s) {
+  const Vec3 h = 0.5 * s.size;
+  int p[8];
+  for (int k = 0; k < 8; ++k) {  // corner k = i + 2j + 4k' with i, j, k' ∈ {0, 1} along d₁, d₂, d₃
+    const Vec3 sign((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
+    p[k] = m.point(s.offset + sign.cwiseProduct(h));
+  }
+  // Counter-clockwise seen from outside.
+  m.cell({p[0], p[4], p[6], p[2]}, kVtkQuad, 0);  // −d₁
+  m.cell({p[1], p[3], p[7], p[5]}, kVtkQuad, 0);  // +d₁
+  m.cell({p[0], p[1], p[5], p[4]}, kVtkQuad, 0);  // −d₂
+  m.cell({p[2], p[6], p[7], p[3]}, kVtkQuad, 0);  // +d₂
+  m.cell({p[0], p[2], p[3], p[1]}, kVtkQuad, 0);  // −d₃
+  m.cell({p[4], p[5], p[7], p[6]}, kVtkQuad, 0);  // +d₃
+}
+
+void add_pyramid(MeshBuilder& m, const model::Shape& s) {
+  const double a = 0.5 * s.base;
+  const int b0 = m.point(s.offset + Vec3(-a, -a, 0.0));
+  const int b1 = m.point(s.offset + Vec3(a, -a, 0.0));
+  const int b2 = m.point(s.offset + Vec3(a, a, 0.0));
+  const int b3 = m.point(s.offset + Vec3(-a, a, 0.0));
+  const int apex = m.point(s.offset + Vec3(0.0, 0.0, s.height));
+  m.cell({b0, b3, b2, b1}, kVtkQuad, 0);
+  m.cell({b0, b1, apex}, kVtkTriangle, 0);
+  m.cell({b1, b2, apex}, kVtkTriangle, 0);
+  m.cell({b2, b3, apex}, kVtkTriangle, 0);
+  m.cell({b3, b0, apex}, kVtkTriangle, 0);
+}
+
+void add_cylinder(MeshBuilder& m, const model::Shape& s) {
+  const int n = kRoundSegments;
+  const double z = 0.5 * s.height;
+  std::vector<int> bottom(n), top(n);
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / n;
+    const double x = s.radius * std::cos(phi), y = s.radius * std::sin(phi);
+    bottom[k] = m.point(s.offset + Vec3(x, y, -z));
+  }
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / n;
+    const double x = s.radius * std::cos(phi), y = s.radius * std::sin(phi);
+    top[k] = m.point(s.offset + Vec3(x, y, z));
+  }
+  for (int k = 0; k < n; ++k) {
+    const int k1 = (k + 1) % n;
+    m.cell({bottom[k], bottom[k1], top[k1], top[k]}, kVtkQuad, 0);
+  }
+  m.cell(std::vector<int>(bottom.rbegin(), bottom.rend()), kVtkPolygon, 0);
+  m.cell(top, kVtkPolygon, 0);
+}
+
+void add_sphere(MeshBuilder& m, const model::Shape& s) {
+  const int nlon = kRoundSegments, nlat = kSphereRings;
+  const double r = s.radius;
+  const int north = m.point(s.offset + Vec3(0.0, 0.0, r));
+  // rings[i − 1][j]: polar angle θ = π i / nlat, i = 1 … nlat − 1
+  std::vector<std::vector<int>> rings(nlat - 1, std::vector<int>(nlon));
+  for (int i = 1; i < nlat; ++i) {
+    const double theta = std::numbers::pi * i / nlat;
+    for (int j = 0; j < nlon; ++j) {
+      const double phi = 2.0 * std::numbers::pi * j / nlon;
+      rings[i - 1][j] =
+          m.point(s.offset + r * Vec3(std::sin(theta) * std::cos(phi),
+                                      std::sin(theta) * std::sin(phi), std::cos(theta)));
+    }
+  }
+  const int south = m.point(s.offset + Vec3(0.0, 0.0, -r));
+  for (int j = 0; j < nlon; ++j) {
+    const int j1 = (j + 1) % nlon;
+    m.cell({north, rings.front()[j], rings.front()[j1]}, kVtkTriangle, 0);
+  }
+  for (int i = 0; i + 1 < nlat - 1; ++i) {
+    for (int j = 0; j < nlon; ++j) {
+      const int j1 = (j + 1) % nlon;
+      m.cell({rings[i][j], rings[i + 1][j], rings[i + 1][j1], rings[i][j1]}, kVtkQuad, 0);
+    }
+  }
+  for (int j = 0; j < nlon; ++j) {
+    const int j1 = (j + 1) % nlon;
+    m.cell({south, rings.back()[j1], rings.back()[j]}, kVtkTriangle, 0);
+  }
+}
+
+// Keeps the time precise and the numbers short.
+void append_real(fmt::memory_buffer& out, double v) {
+  if (!std::isfinite(v)) v = 0.0;  // VTK ascii readers reject nan/inf
+  fmt::format_to(std::back_inserter(out), "{:.15g}", v);
+}
+
+}  // namespace
+
+double director_length(const model::Shape& s) {
+  double largest = 0.0;
+  switch (s.kind) {
+    case model::ShapeKind::none:
+      break;
+    case model::ShapeKind::box:
+      largest = s.size.cwiseAbs().maxCoeff();
+      break;
+    case model::ShapeKind::sphere:
+      largest = 2.0 * std::abs(s.radius);
+      break;
+    case model::ShapeKind::pyramid:
+      largest = std::max(std::abs(s.base), std::abs(s.height));
+      break;
+    case model::ShapeKind::cylinder:
+      largest = std::max(2.0 * std::abs(s.radius), std::abs(s.height));
+      break;
+  }
+  return largest > 0.0 ? 0.5 * largest : 0.2;
+}
+
+BodyMesh body_mesh(const model::Shape& shape, const integrate::BodyPose& pose) {
+  MeshBuilder m;
+  switch (shape.kind) {
+    case model::ShapeKind::none:
+      m.cell({m.point(Vec3::Zero())}, kVtkVertex, 0);
+      break;
+    case model::ShapeKind::box:
+      add_box(m, shape);
+      break;
+    case model::ShapeKind::pyramid:
+      add_pyramid(m, shape);
+      break;
+    case model::ShapeKind::cylinder:
+      add_cylinder(m, shape);
+      break;
+    case model::ShapeKind::sphere:
+      add_sphere(m, shape);
+      break;
+  }
+  const double len = director_length(shape);
+  const int origin = m.point(Vec3::Zero());
+  for (int a = 0; a < 3; ++a) {
+    const int tip = m.point(len * Vec3::Unit(a));
+    m.cell({origin, tip}, kVtkLine, a + 1);
+  }
+  return m.finish(pose);
+}
+
+VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model,
+                                 int every)
+    : outdir_(outdir), every_(every) {
+  shapes_.reserve(model.bodies.size());
+  for (const auto& b : model.bodies) shapes_.push_back(b.shape);
+  if (every_ <= 0) return;
+  std::error_code ec;
+  std::filesystem::create_directories(outdir_ / "vtk", ec);
+  if (ec) {
+    throw std::runtime_error(
+        fmt::format("cannot create directory {}: {}", (outdir_ / "vtk").string(), ec.message()));
+  }
+}
+
+VtkSeriesWriter::~VtkSeriesWriter() {
+  try {
+    if (pvd_dirty_) write_pvd();
+  } catch (...) {  // nothing sensible to do in a destructor
+  }
+}
+
+void VtkSeriesWriter::on_snapshot(const integrate::Snapshot& s) {
+  if (every_ <= 0) return;
+  if (s.step % every_ == 0) {
+    write_vtu(s);
+    last_.reset();
+  } else {
+    last_ = s;
+  }
+}
+
+void VtkSeriesWriter::on_finish() {
+  if (every_ <= 0) return;
+  if (last_ && last_->step != last_written_step_) write_vtu(*last_);
+  last_.reset();
+  if (pvd_dirty_) write_pvd();
+}
+
+void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
+  if (s.bodies.size() != shapes_.size()) {
+    throw std::runtime_error(fmt::format("VTK output: snapshot has {} bodies, the model has {}",
+                                         s.bodies.size(), shapes_.size()));
+  }
+  std::vector<BodyMesh> meshes;
+  meshes.reserve(s.bodies.size());
+  std::size_t n_points = 0, n_cells = 0;
+  for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+    meshes.push_back(body_mesh(shapes_[i], s.bodies[i]));
+    n_points += meshes.back().points.size();
+    n_cells += meshes.back().types.size();
+  }
+
+  fmt::memory_buffer out;
+  auto it = std::back_inserter(out);
+  fmt::format_to(it,
+                 "<?xml version=\"1.0\"?>\n"
+                 "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+                 "byte_order=\"LittleEndian\">\n"
+                 "  <UnstructuredGrid>\n"
+                 "    <FieldData>\n"
+                 "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+                 "format=\"ascii\">\n        ");
+  append_real(out, s.t);
+  fmt::format_to(it,
+                 "\n      </DataArray>\n"
+                 "    </FieldData>\n"
+                 "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
+                 n_points, n_cells);
+
+  // Point data
+  fmt::format_to(it,
+                 "      <PointData Vectors=\"velocity\">\n"
+                 "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
+                 "format=\"ascii\">\n");
+  for (const auto& m : meshes) {
+    for (const Vec3& v : m.velocities) {
+      out.append(std::string_view("          "));
+      append_real(out, v.x());
+      out.push_back(' ');
+      append_real(out, v.y());
+      out.push_back(' ');
+      append_real(out, v.z());
+      out.push_back('\n');
+    }
+  }
+  fmt::format_to(it, "        </DataArray>\n      </PointData>\n");
+
+  // Cell data
+  fmt::format_to(it,
+                 "      <CellData Scalars=\"body_id\">\n"
+                 "        <DataArray type=\"Int32\" Name=\"body_id\" format=\"ascii\">\n");
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    if (meshes[i].types.empty()) continue;
+    out.append(std::string_view("          "));
+    for (std::size_t c = 0; c < meshes[i].types.size(); ++c) fmt::format_to(it, "{} ", i);
+    out.push_back('\n');
+  }
+  fmt::format_to(it,
+                 "        </DataArray>\n"
+                 "        <DataArray type=\"Int32\" Name=\"part\" format=\"ascii\">\n");
+  for (const auto& m : meshes) {
+    if (m.parts.empty()) continue;
+    out.append(std::string_view("          "));
+    for (const int p : m.parts) fmt::format_to(it, "{} ", p);
+    out.push_back('\n');
+  }
+  fmt::format_to(it, "        </DataArray>\n      </CellData>\n");
+
+  // Points
+  fmt::format_to(it,
+                 "      <Points>\n"
+                 "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
+                 "format=\"ascii\">\n");
+  for (const auto& m : meshes) {
+    for (const Vec3& x : m.points) {
+      out.append(std::string_view("          "));
+      append_real(out, x.x());
+      out.push_back(' ');
+      append_real(out, x.y());
+      out.push_back(' ');
+      append_real(out, x.z());
+      out.push_back('\n');
+    }
+  }
+  fmt::format_to(it, "        </DataArray>\n      </Points>\n");
+
+  // Cells: global point ids and running end offsets.
+  fmt::format_to(it,
+                 "      <Cells>\n"
+                 "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  {
+    std::size_t base = 0;
+    for (const auto& m : meshes) {
+      std::size_t begin = 0;
+      for (const int end : m.offsets) {
+        out.append(std::string_view("          "));
+        for (std::size_t k = begin; k < static_cast<std::size_t>(end); ++k) {
+          fmt::format_to(it, "{} ", base + static_cast<std::size_t>(m.connectivity[k]));
+        }
+        out.push_back('\n');
+        begin = static_cast<std::size_t>(end);
+      }
+      base += m.points.size();
+    }
+  }
+  fmt::format_to(it,
+                 "        </DataArray>\n"
+                 "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  {
+    std::size_t base = 0;
+    for (const auto& m : meshes) {
+      if (m.offsets.empty()) continue;
+      out.append(std::string_view("          "));
+      for (const int end : m.offsets)
+        fmt::format_to(it, "{} ", base + static_cast<std::size_t>(end));
+      out.push_back('\n');
+      base += m.connectivity.size();
+    }
+  }
+  fmt::format_to(it,
+                 "        </DataArray>\n"
+                 "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  for (const auto& m : meshes) {
+    if (m.types.empty()) continue;
+    out.append(std::string_view("          "));
+    for (const unsigned char t : m.types) fmt::format_to(it, "{} ", static_cast<int>(t));
+    out.push_back('\n');
+  }
+  fmt::format_to(it,
+                 "        </DataArray>\n"
+                 "      </Cells>\n"
+                 "    </Piece>\n"
+                 "  </UnstructuredGrid>\n"
+                 "</VTKFile>\n");
+
+  const std::string name = fmt::format("vtk/step_{:06d}.vtu", s.step);
+  write_file_atomic(outdir_ / name, std::string_view(out.data(), out.size()));
+  files_.push_back(name);
+  last_written_step_ = s.step;
+
+  fmt::format_to(std::back_inserter(pvd_entries_),
+                 "    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                 std::isfinite(s.t) ? s.t : 0.0, name);
+  pvd_dirty_ = true;
+  // Rewriting the whole collection each time costs O(files²) in total; beyond a few thousand
+  // files it is rewritten at most once a second (and always on finish).
+  const auto now = std::chrono::steady_clock::now();
+  if (files_.size() <= 2000 || now - last_pvd_write_ >= std::chrono::seconds(1)) write_pvd();
+}
+
+void VtkSeriesWriter::write_pvd() {
+  std::string text =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <Collection>\n";
+  text += pvd_entries_;
+  text +=
+      "  </Collection>\n"
+      "</VTKFile>\n";
+  write_file_atomic(outdir_ / "results.pvd", text);
+  pvd_dirty_ = false;
+  last_pvd_write_ = std::chrono::steady_clock::now();
+}
+
+}  // namespace isoflex::io

@@ -1,0 +1,80 @@
+#pragma once
+// A ParaView time series of the bodies: outdir/vtk/step_NNNNNN.vtu (VTK XML UnstructuredGrid,
+// ascii) for every `every`-th snapshot plus the last one, and outdir/results.pvd (a VTK Collection
+// of them, rewritten atomically whenever a file is added, so an interrupted run leaves a valid
+// series).
+//
+// Each .vtu holds, per body, its drawing shape as surface cells in the current pose
+// x = φ + R·X (R = [d₁ d₂ d₃]) and the director triad as three line cells from φ.
+//   cell data:  body_id (Int32, index into model.bodies), part (Int32: 0 shape, 1/2/3 = d₁/d₂/d₃)
+//   point data: velocity (Float64 × 3) = φ̇ + ω × (x − φ)
+//   field data: TimeValue (Float64, the snapshot time; ParaView shows it as the time)
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "isoflex/integrate/snapshot.hpp"
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::io {
+
+// Points and cells of one body in the current pose (exposed for tests and other writers).
+struct BodyMesh {
+  std::vector<Vec3> points;
+  std::vector<Vec3> velocities;      // one per point
+  std::vector<int> connectivity;     // point indices local to this mesh
+  std::vector<int> offsets;          // end offset of each cell in `connectivity`
+  std::vector<unsigned char> types;  // VTK cell types
+  std::vector<int> parts;            // 0 shape, 1/2/3 = director d₁/d₂/d₃
+};
+
+// VTK cell type numbers used here.
+inline constexpr unsigned char kVtkVertex = 1;
+inline constexpr unsigned char kVtkLine = 3;
+inline constexpr unsigned char kVtkTriangle = 5;
+inline constexpr unsigned char kVtkPolygon = 7;
+inline constexpr unsigned char kVtkQuad = 9;
+
+// Segments around the circumference of cylinders and spheres, rings of a sphere (pole to pole).
+inline constexpr int kRoundSegments = 24;
+inline constexpr int kSphereRings = 12;
+
+// Length of the drawn director lines: half the largest shape dimension, 0.2 without a shape.
+double director_length(const model::Shape& shape);
+
+// The shape (in body coordinates, see model::Shape) and the director triad of one body at `pose`.
+BodyMesh body_mesh(const model::Shape& shape, const integrate::BodyPose& pose);
+
+class VtkSeriesWriter : public integrate::Observer {
+ public:
+  // Creates outdir/vtk. every ≤ 0 writes nothing at all.
+  VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model, int every);
+  // Writes a collection that is still behind (a run that ended without on_finish).
+  ~VtkSeriesWriter() override;
+  VtkSeriesWriter(const VtkSeriesWriter&) = delete;
+  VtkSeriesWriter& operator=(const VtkSeriesWriter&) = delete;
+
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+  // Files written so far, relative to outdir (e.g. "vtk/step_000010.vtu").
+  const std::vector<std::string>& files() const { return files_; }
+
+ private:
+  void write_vtu(const integrate::Snapshot& s);
+  void write_pvd();
+
+  std::filesystem::path outdir_;
+  std::vector<model::Shape> shapes_;
+  int every_;
+  std::vector<std::string> files_;
+  std::string pvd_entries_;  // the <DataSet .../> lines so far
+  bool pvd_dirty_ = false;
+  std::chrono::steady_clock::time_point last_pvd_write_{};
+  std::optional<integrate::Snapshot> last_;  // the latest snapshot, if not yet written
+  int last_written_step_ = -1;
+};
+
+}  // namespace isoflex::io

@@ -1,0 +1,41 @@
+#include "isoflex/loads/body_load.hpp"
+
+#include "isoflex/math/skew.hpp"
+
+namespace isoflex::loads {
+
+BodyLoad::BodyLoad(int node, const Vec3& X, std::optional<std::array<TimeFunction, 3>> force,
+                   std::optional<std::array<TimeFunction, 3>> moment)
+    : node_(node), X_(X), force_(std::move(force)), moment_(std::move(moment)) {}
+
+namespace {
+Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
+  if (!f) return Vec3::Zero();
+  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
+}
+}  // namespace
+
+Vec3 BodyLoad::force(double t) const {
+  return evaluate(force_, t);
+}
+Vec3 BodyLoad::moment(double t) const {
+  return evaluate(moment_, t);
+}
+
+Vec<12> BodyLoad::generalized_force(const Vec<12>& q, double t) const {
+  const Vec3 F = force(t), M = moment(t);
+  Vec<12> f;
+  f.head<3>() = F;
+  for (int I = 0; I < 3; ++I)
+    f.segment<3>(3 + 3 * I) = X_(I) * F + 0.5 * M.cross(q.segment<3>(3 + 3 * I));
+  return f;
+}
+
+Mat<12, 12> BodyLoad::generalized_force_derivative(double t) const {
+  Mat<12, 12> K = Mat<12, 12>::Zero();
+  const Mat3 S = 0.5 * skew(moment(t));
+  for (int I = 0; I < 3; ++I) K.block<3, 3>(3 + 3 * I, 3 + 3 * I) = S;
+  return K;
+}
+
+}  // namespace isoflex::loads

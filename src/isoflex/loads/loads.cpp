@@ -1,1 +1,0 @@
-// (room loads: sources follow)

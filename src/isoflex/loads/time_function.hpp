@@ -1,0 +1,49 @@
+#pragma once
+// A scalar function of time f(t), written as a muParser expression in the variable `t`
+// (e.g. "1000*sin(pi*t)*(t<=2)"). Used for the components of prescribed forces and moments.
+//
+// The constants `pi` and `e` are defined; every muParser built-in (sin, cos, tan, exp, log, sqrt,
+// abs, min, max, sign, the comparisons <, <=, ==, !=, >=, >, &&, ||, and the ternary c ? a : b)
+// is available. A string that is a plain number (e.g. "0", "-9.81", "1e3") is recognised at
+// construction and evaluated without the parser.
+//
+// muParser binds the *address* of `t`, so the variable and the parser live together in a heap
+// object owned by the TimeFunction; moving keeps that object, copying compiles the expression
+// anew. Copies are therefore independent and may be evaluated on different threads; a single
+// object must not be evaluated concurrently (evaluation writes its variable).
+#include <memory>
+#include <string>
+
+namespace isoflex::loads {
+
+class TimeFunction {
+ public:
+  // The constant 0.
+  TimeFunction();
+  // The constant `value`.
+  explicit TimeFunction(double value);
+  // Compiles `expression`; throws std::invalid_argument (with muParser's message and the
+  // expression) when it is malformed, uses a variable other than `t`, or yields more than one
+  // value. The expression is evaluated once (at t = 0) to detect these errors.
+  explicit TimeFunction(const std::string& expression);
+
+  TimeFunction(const TimeFunction& other);
+  TimeFunction& operator=(const TimeFunction& other);
+  TimeFunction(TimeFunction&& other) noexcept;
+  TimeFunction& operator=(TimeFunction&& other) noexcept;
+  ~TimeFunction();
+
+  double operator()(double t) const;
+
+  // True when the expression is a plain number (evaluated without the parser).
+  bool is_constant() const { return impl_ == nullptr; }
+  const std::string& expression() const { return expression_; }
+
+ private:
+  struct Impl;
+  std::string expression_;
+  double constant_ = 0.0;  // the value when is_constant()
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace isoflex::loads

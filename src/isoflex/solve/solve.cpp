@@ -1,1 +1,0 @@
-// (room solve: sources follow)

@@ -1,0 +1,132 @@
+#pragma once
+// The compiled system (docs/architecture.md, "system"): DOF layout, elements, loads, joints, the
+// constraint graph with its spanning forest, and the assembly of every quantity the integrators
+// need. Only frame nodes (rigid bodies) exist so far; node i is body i.
+//
+// Layouts
+//   q ∈ Rⁿ, n = 12·nodes: node i occupies q[12i, 12i+12).
+//   Constraint rows ("all rows"): 6 internal rows per node (DNSM-III (20)), then every joint's
+//   rows in model order. Selected rows: internal, tree joints, and the independent rows of the
+//   loop-closing joints; redundant rows are kept out of every system that is solved.
+//   ν ∈ Rᵏ (tree coordinates): a twist (6) for each root node, then τ (r entries) for each tree
+//   joint. q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
+#include <Eigen/SparseCore>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "isoflex/elements/element.hpp"
+#include "isoflex/joints/frame_joint.hpp"
+#include "isoflex/loads/body_load.hpp"
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::system {
+
+using SpMat = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+class CompileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct JointInstance {
+  std::string name;
+  model::JointType type;
+  joints::FrameJoint joint;
+  int parent = -1;  // node index, −1 = ground (the parent side of `joint`)
+  int child = -1;
+  bool tree = false;      // eliminated explicitly by the spanning forest
+  bool reversed = false;  // parent/child swapped relative to body_a/body_b of the model
+  int row_offset = 0;     // first row in the all-rows layout
+  int nu_offset = -1;     // tree joints: first entry of τ in ν
+};
+
+struct ProbeInstance {
+  std::string name;
+  int node;
+  Vec3 X;  // body coordinates
+};
+
+class System {
+ public:
+  static System compile(const model::Model& model);
+
+  // Sizes
+  int node_count() const { return static_cast<int>(q0_.size() / 12); }
+  int n() const { return static_cast<int>(q0_.size()); }
+  int m_all() const { return m_all_; }
+  int m_selected() const { return static_cast<int>(selected_rows_.size()); }
+  int k() const { return k_; }  // tree coordinates
+  int cut_rank() const { return static_cast<int>(cut_rows_.size()); }
+  int dof() const { return k_ - cut_rank(); }  // degrees of freedom n − m
+  const std::vector<int>& selected_rows() const { return selected_rows_; }
+  const std::vector<int>& cut_rows() const { return cut_rows_; }  // selected rows of cut joints
+  const std::vector<int>& redundant_rows() const { return redundant_rows_; }
+  const std::vector<JointInstance>& joints() const { return joints_; }
+  const std::vector<int>& roots() const { return roots_; }
+  // Which joint (index) or −1 (internal) a row belongs to.
+  int joint_of_row(int row) const;
+  // Independent cut rows found by pivoted QR (must agree in count with the LU selection).
+  int cut_rank_qr() const { return cut_rank_qr_; }
+  // ‖E ν₀ − t_given‖ / max(1, ‖t_given‖): how far the given initial velocities were from
+  // admissible.
+  double initial_velocity_projection_error() const { return v0_error_; }
+
+  // Initial state.
+  const VecX& q0() const { return q0_; }
+  const VecX& v0() const { return v0_; }
+  const SpMat& mass() const { return M_; }
+
+  // Potential energy (conservative: gravity, elastic).
+  double potential(const VecX& q) const;
+  // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t); K (if not null) receives ∂f/∂qₙ₊₁.
+  VecX discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const;
+
+  // Constraints, all rows.
+  VecX constraints(const VecX& q) const;
+  // Jacobian of the selected rows (m_selected × n) or of the given rows.
+  SpMat jacobian(const VecX& q) const;
+  SpMat jacobian_rows(const VecX& q, const std::vector<int>& rows) const;
+  // Σ λᵢ ∂²Φᵢ/∂q² over selected rows (λ in selected order), n × n.
+  SpMat constraint_hessian(const VecX& lambda_selected) const;
+
+  // Tree null space P_tree(q) (n × k): G_tree(q) P_tree(q) = 0 for every q.
+  SpMat tree_null_space(const VecX& q) const;
+  // Twist-level map E(q) (6·nodes × k) with t = E ν.
+  SpMat twist_map(const VecX& q) const;
+  // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
+  VecX update(const VecX& qn, const VecX& u) const;
+  // ∂F/∂u = P_tree(q_{n+1}) D(u), D = I except T(θ) blocks on rotation vectors.
+  SpMat update_derivative(const VecX& qn, const VecX& u) const;
+
+  // Momentum maps: p = Σ (M v)_φ, L = Σ_blocks q_k × (M v)_k (docs/theory).
+  Vec3 linear_momentum(const VecX& v) const;
+  Vec3 angular_momentum(const VecX& q, const VecX& v) const;
+
+  const std::vector<ProbeInstance>& probes() const { return probes_; }
+  Vec3 material_point(const VecX& q, int node, const Vec3& X) const;
+  Vec3 material_velocity(const VecX& q, const VecX& v, int node, const Vec3& X) const;
+
+  std::string describe_forest(const model::Model& model) const;
+
+ private:
+  std::vector<std::unique_ptr<elements::Element>> elements_;
+  std::vector<loads::BodyLoad> loads_;
+  std::vector<JointInstance> joints_;
+  std::vector<int> tree_order_;  // joint indices, parents before children
+  std::vector<int> roots_;
+  std::vector<int> root_nu_offset_;
+  std::vector<int> selected_rows_, cut_rows_, redundant_rows_;
+  std::vector<ProbeInstance> probes_;
+  int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
+  double v0_error_ = 0.0;
+  VecX q0_, v0_;
+  SpMat M_;
+  frame_node::Q ground_;
+
+  const frame_node::Q node_q(const VecX& q, int node) const;
+};
+
+}  // namespace isoflex::system

@@ -1,0 +1,495 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+#include "isoflex/io/model_error.hpp"
+#include "isoflex/io/model_reader.hpp"
+
+using namespace isoflex;
+using isoflex::io::ModelError;
+using isoflex::io::read_model;
+using isoflex::io::read_model_string;
+
+namespace {
+
+// Joins lines with '\n' so that the line numbers of a test model are explicit (first = line 1).
+std::string lines(std::initializer_list<std::string_view> ls) {
+  std::string s;
+  for (const auto l : ls) {
+    s += l;
+    s += '\n';
+  }
+  return s;
+}
+
+// what() of the ModelError thrown for `yaml` (read as "m.yaml").
+std::string error_of(const std::string& yaml) {
+  try {
+    read_model_string(yaml, "m.yaml");
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A valid body list occupying lines 1-5.
+constexpr std::string_view kBodies[] = {"bodies:", "  - name: top", "    mass: 1",
+                                        "    inertia: [1, 1, 1]", "    position: [0, 0, 0]"};
+
+// kBodies followed by `more`.
+std::string with_bodies(std::initializer_list<std::string_view> more) {
+  std::string s;
+  for (const auto l : kBodies) s += std::string(l) + '\n';
+  for (const auto l : more) s += std::string(l) + '\n';
+  return s;
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("isoflex_test_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+const std::string kValid = lines({
+    "name: heavy_top",                                                             // 1
+    "gravity: [0, 0, -9.81]",                                                      // 2
+    "solver:",                                                                     // 3
+    "  formulation: nullspace",                                                    // 4
+    "  dt: 0.005",                                                                 // 5
+    "  t_end: 2",                                                                  // 6
+    "  residual_tolerance: 1e-9",                                                  // 7
+    "  increment_tolerance: 1e-11",                                                // 8
+    "  max_iterations: 30",                                                        // 9
+    "output:",                                                                     // 10
+    "  vtk_every: 0",                                                              // 11
+    "  history: false",                                                            // 12
+    "joints:          # before the bodies they name",                              // 13
+    "  - type: spherical",                                                         // 14
+    "    body_b: top",                                                             // 15
+    "    point: [0, 0, 0]",                                                        // 16
+    "  - name: hinge",                                                             // 17
+    "    type: universal",                                                         // 18
+    "    body_a: top",                                                             // 19
+    "    body_b: arm",                                                             // 20
+    "    point_b: [0, 0, -0.5]",                                                   // 21
+    "    axis: [0, 0, 2]",                                                         // 22
+    "    axis2: [1, 0, 0]",                                                        // 23
+    "bodies:",                                                                     // 24
+    "  - name: top",                                                               // 25
+    "    mass: 1.0",                                                               // 26
+    "    inertia: [0.625, 0.625, 0.25]",                                           // 27
+    "    position: [0, 0, 1]",                                                     // 28
+    "    angular_velocity: [0, 0, 50]",                                            // 29
+    "    shape: {type: cylinder, radius: 0.5, height: 0.1, offset: [0, 0, 0.2]}",  // 30
+    "  - name: arm",                                                               // 31
+    "    mass: 2",                                                                 // 32
+    "    inertia: [1, 2, 3]",                                                      // 33
+    "    position: [1, 2, 3]",                                                     // 34
+    "    orientation: [[0, 1, 0], [-1, 0, 0], [0, 0, 1]]",                         // 35
+    "    velocity: [1, 0, 0]",                                                     // 36
+    "    shape: {type: box, size: [1, 2, 3]}",                                     // 37
+    "loads:",                                                                      // 38
+    "  - name: push",                                                              // 39
+    "    body: arm",                                                               // 40
+    "    force: [\"1000*sin(pi*t)*(t<=2)\", 0, \"0\"]",                            // 41
+    "    point_local: [0, 0, 1]",                                                  // 42
+    "  - body: top",                                                               // 43
+    "    moment: [0, 0, \"2*t\"]",                                                 // 44
+    "probes:",                                                                     // 45
+    "  - name: tip",                                                               // 46
+    "    body: top",                                                               // 47
+    "    point: [0, 0, 1.5]",                                                      // 48
+    "  - name: c",                                                                 // 49
+    "    body: arm",                                                               // 50
+});
+
+}  // namespace
+
+TEST(ModelReader, ReadsAllValuesOfAValidModel) {
+  const model::Model m = read_model_string(kValid, "m.yaml");
+  EXPECT_EQ(m.name, "heavy_top");
+  EXPECT_EQ(m.file, "m.yaml");
+  EXPECT_EQ(m.gravity, Vec3(0, 0, -9.81));
+  EXPECT_EQ(m.solver.formulation, model::Formulation::nullspace);
+  EXPECT_EQ(m.solver.dt, 0.005);
+  EXPECT_EQ(m.solver.t_end, 2.0);
+  EXPECT_EQ(m.solver.residual_tolerance, 1e-9);
+  EXPECT_EQ(m.solver.increment_tolerance, 1e-11);
+  EXPECT_EQ(m.solver.max_iterations, 30);
+  EXPECT_EQ(m.output.vtk_every, 0);
+  EXPECT_FALSE(m.output.history);
+
+  ASSERT_EQ(m.bodies.size(), 2u);
+  const model::Body& top = m.bodies[0];
+  EXPECT_EQ(top.name, "top");
+  EXPECT_EQ(top.mass, 1.0);
+  EXPECT_EQ(top.inertia, Vec3(0.625, 0.625, 0.25));
+  EXPECT_EQ(top.position, Vec3(0, 0, 1));
+  EXPECT_EQ(top.orientation, Mat3::Identity());
+  EXPECT_EQ(top.velocity, Vec3::Zero());
+  EXPECT_EQ(top.angular_velocity, Vec3(0, 0, 50));
+  EXPECT_EQ(top.shape.kind, model::ShapeKind::cylinder);
+  EXPECT_EQ(top.shape.radius, 0.5);
+  EXPECT_EQ(top.shape.height, 0.1);
+  EXPECT_EQ(top.shape.offset, Vec3(0, 0, 0.2));
+  EXPECT_EQ(top.source.file, "m.yaml");
+  EXPECT_EQ(top.source.line, 25);
+  const model::Body& arm = m.bodies[1];
+  EXPECT_EQ(arm.mass, 2.0);
+  EXPECT_EQ(arm.inertia, Vec3(1, 2, 3));
+  Mat3 R;
+  R.col(0) = Vec3(0, 1, 0);  // the rows of the file are the axes d1, d2, d3
+  R.col(1) = Vec3(-1, 0, 0);
+  R.col(2) = Vec3(0, 0, 1);
+  EXPECT_EQ(arm.orientation, R);
+  EXPECT_EQ(arm.velocity, Vec3(1, 0, 0));
+  EXPECT_EQ(arm.shape.kind, model::ShapeKind::box);
+  EXPECT_EQ(arm.shape.size, Vec3(1, 2, 3));
+  EXPECT_EQ(arm.shape.offset, Vec3::Zero());
+  EXPECT_EQ(arm.source.line, 31);
+
+  ASSERT_EQ(m.joints.size(), 2u);
+  const model::Joint& j0 = m.joints[0];
+  EXPECT_EQ(j0.name, "joint0");
+  EXPECT_EQ(j0.type, model::JointType::spherical);
+  EXPECT_EQ(j0.body_a, "ground");
+  EXPECT_EQ(j0.body_b, "top");
+  ASSERT_TRUE(j0.point);
+  EXPECT_EQ(*j0.point, Vec3::Zero());
+  EXPECT_FALSE(j0.point_b || j0.axis || j0.axis2);
+  EXPECT_EQ(j0.source.line, 14);
+  const model::Joint& j1 = m.joints[1];
+  EXPECT_EQ(j1.name, "hinge");
+  EXPECT_EQ(j1.type, model::JointType::universal);
+  EXPECT_EQ(j1.body_a, "top");
+  EXPECT_EQ(j1.body_b, "arm");
+  EXPECT_FALSE(j1.point);
+  ASSERT_TRUE(j1.point_b && j1.axis && j1.axis2);
+  EXPECT_EQ(*j1.point_b, Vec3(0, 0, -0.5));
+  EXPECT_EQ(*j1.axis, Vec3(0, 0, 1));  // normalized
+  EXPECT_EQ(*j1.axis2, Vec3(1, 0, 0));
+  EXPECT_EQ(j1.source.line, 17);
+
+  ASSERT_EQ(m.loads.size(), 2u);
+  const model::Load& push = m.loads[0];
+  EXPECT_EQ(push.name, "push");
+  EXPECT_EQ(push.body, "arm");
+  ASSERT_TRUE(push.force);
+  EXPECT_EQ((*push.force)[0], "1000*sin(pi*t)*(t<=2)");
+  EXPECT_EQ((*push.force)[1], "0");
+  EXPECT_EQ((*push.force)[2], "0");
+  EXPECT_FALSE(push.moment);
+  EXPECT_FALSE(push.point);
+  ASSERT_TRUE(push.point_local);
+  EXPECT_EQ(*push.point_local, Vec3(0, 0, 1));
+  EXPECT_EQ(push.source.line, 39);
+  const model::Load& twist = m.loads[1];
+  EXPECT_EQ(twist.name, "load1");
+  EXPECT_EQ(twist.body, "top");
+  EXPECT_FALSE(twist.force);
+  ASSERT_TRUE(twist.moment);
+  EXPECT_EQ((*twist.moment)[2], "2*t");
+  EXPECT_EQ(twist.source.line, 43);
+
+  ASSERT_EQ(m.probes.size(), 2u);
+  EXPECT_EQ(m.probes[0].name, "tip");
+  EXPECT_EQ(m.probes[0].body, "top");
+  ASSERT_TRUE(m.probes[0].point);
+  EXPECT_EQ(*m.probes[0].point, Vec3(0, 0, 1.5));
+  EXPECT_EQ(m.probes[0].source.line, 46);
+  EXPECT_EQ(m.probes[1].body, "arm");
+  EXPECT_FALSE(m.probes[1].point || m.probes[1].point_local);
+  EXPECT_EQ(m.probes[1].source.line, 49);
+}
+
+TEST(ModelReader, DefaultsOfAMinimalModel) {
+  const model::Model m = read_model_string(with_bodies({"joints:"}), "m.yaml");
+  const model::Model defaults;
+  EXPECT_EQ(m.name, "");
+  EXPECT_EQ(m.gravity, Vec3::Zero());
+  EXPECT_EQ(m.solver.formulation, defaults.solver.formulation);
+  EXPECT_EQ(m.solver.dt, defaults.solver.dt);
+  EXPECT_EQ(m.solver.max_iterations, defaults.solver.max_iterations);
+  EXPECT_EQ(m.output.vtk_every, defaults.output.vtk_every);
+  EXPECT_EQ(m.output.history, defaults.output.history);
+  ASSERT_EQ(m.bodies.size(), 1u);
+  EXPECT_EQ(m.bodies[0].shape.kind, model::ShapeKind::none);
+  EXPECT_TRUE(m.joints.empty() && m.loads.empty() && m.probes.empty());
+}
+
+TEST(ModelReader, ReadsAFileAndRecordsItsName) {
+  const std::string path = temp_path("valid.yaml");
+  {
+    std::ofstream out(path);
+    out << kValid;
+  }
+  const model::Model m = read_model(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(m.file, path);
+  ASSERT_EQ(m.bodies.size(), 2u);
+  EXPECT_EQ(m.bodies[1].source.file, path);
+  EXPECT_EQ(m.joints[1].source.file, path);
+  EXPECT_EQ(m.loads[0].source.file, path);
+  EXPECT_EQ(m.probes[0].source.file, path);
+}
+
+TEST(ModelReader, MissingFile) {
+  const std::string path = temp_path("does_not_exist.yaml");
+  try {
+    read_model(path);
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot open model file");
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), 0);
+  }
+}
+
+TEST(ModelReader, ErrorInAFileNamesTheFile) {
+  const std::string path = temp_path("bad.yaml");
+  {
+    std::ofstream out(path);
+    out << with_bodies({"probes:", "  - name: p", "    body: nobody"});
+  }
+  std::string what = "(no error)";
+  try {
+    read_model(path);
+  } catch (const ModelError& e) {
+    what = e.what();
+  }
+  std::filesystem::remove(path);
+  EXPECT_EQ(what, path + ":8: probes[0].body: no body named \"nobody\"");
+}
+
+TEST(ModelReader, YamlSyntaxError) {
+  const std::string what = error_of(lines({"gravity: [0, 0, -9.81", "bodies: []"}));
+  EXPECT_EQ(what.rfind("m.yaml:2: ", 0), 0u) << what;
+  EXPECT_GT(what.size(), std::string("m.yaml:2: ").size()) << what;
+  EXPECT_EQ(what.find("yaml-cpp"), std::string::npos) << what;  // yaml-cpp's bare message
+}
+
+TEST(ModelReader, MissingRequiredKey) {
+  EXPECT_EQ(error_of(lines(
+                {"bodies:", "  - name: top", "    inertia: [1, 1, 1]", "    position: [0, 0, 0]"})),
+            "m.yaml:2: bodies[0].mass: missing required key");
+  EXPECT_EQ(error_of(lines({"name: x", "gravity: [0, 0, 1]"})),
+            "m.yaml:1: bodies: missing required key");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    point: [0, 0, 0]"})),
+            "m.yaml:7: joints[0].body_b: missing required key");
+  EXPECT_EQ(error_of(with_bodies(
+                {"joints:", "  - type: revolute", "    body_b: top", "    point: [0, 0, 0]"})),
+            "m.yaml:7: joints[0].axis: missing required key for a revolute joint");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top"})),
+            "m.yaml:7: joints[0].point: missing required key for a spherical joint (or give "
+            "point_b)");
+  EXPECT_EQ(error_of(with_bodies({"loads:", "  - body: top", "    point: [0, 0, 0]"})),
+            "m.yaml:7: loads[0]: at least one of force and moment is required");
+}
+
+TEST(ModelReader, UnknownKey) {
+  EXPECT_EQ(error_of(with_bodies({"    colour: red"})),
+            "m.yaml:6: bodies[0].colour: unknown key (valid keys: name, mass, inertia, position, "
+            "orientation, velocity, angular_velocity, shape)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
+            "m.yaml:8: solver.tolerance: unknown key (valid keys: formulation, dt, t_end, "
+            "residual_tolerance, increment_tolerance, max_iterations)");
+  EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
+            "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
+            "bodies, joints, loads, probes)");
+  EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, size: [1, 1, 1]}"})),
+            "m.yaml:6: bodies[0].shape.size: unknown key (valid keys: type, radius, offset)");
+  EXPECT_EQ(error_of(with_bodies({"gravity: [0, 0, 0]", "gravity: [0, 0, 1]"})),
+            "m.yaml:7: gravity: duplicate key (first at line 6)");
+}
+
+TEST(ModelReader, UnknownJointType) {
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: hinge", "    body_b: top"})),
+            "m.yaml:7: joints[0].type: unknown joint type \"hinge\" (valid: spherical, revolute, "
+            "prismatic, cylindrical, planar, universal, rigid, point_on_line, fixed)");
+}
+
+TEST(ModelReader, BodyNameNotFound) {
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: fixed", "    body_b: topp"})),
+            "m.yaml:8: joints[0].body_b: no body named \"topp\"");
+  EXPECT_EQ(error_of(with_bodies(
+                {"joints:", "  - type: fixed", "    body_a: nobody", "    body_b: top"})),
+            "m.yaml:8: joints[0].body_a: no body named \"nobody\"");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: fixed", "    body_b: ground"})),
+            "m.yaml:8: joints[0].body_b: must name a body, not the fixed space \"ground\"");
+  EXPECT_EQ(
+      error_of(with_bodies({"joints:", "  - type: fixed", "    body_a: top", "    body_b: top"})),
+      "m.yaml:9: joints[0].body_b: body_a and body_b are the same body \"top\"");
+  EXPECT_EQ(error_of(with_bodies({"loads:", "  - body: tp", "    force: [1, 0, 0]"})),
+            "m.yaml:7: loads[0].body: no body named \"tp\"");
+}
+
+TEST(ModelReader, NonOrthonormalTriad) {
+  EXPECT_EQ(error_of(with_bodies({"    orientation: [[1, 0, 0], [0, 1, 0], [0, 0.1, 1]]"})),
+            "m.yaml:6: bodies[0].orientation: orientation is not an orthonormal right-handed "
+            "triad");
+  // Orthonormal but left-handed.
+  EXPECT_EQ(error_of(with_bodies({"    orientation: [[1, 0, 0], [0, 1, 0], [0, 0, -1]]"})),
+            "m.yaml:6: bodies[0].orientation: orientation is not an orthonormal right-handed "
+            "triad");
+  EXPECT_EQ(error_of(with_bodies({"    orientation: [[1, 0, 0], [0, 1, 0]]"})),
+            "m.yaml:6: bodies[0].orientation: expected a list of the three principal axes [d1, "
+            "d2, d3]");
+}
+
+TEST(ModelReader, NegativeOrNonFiniteMass) {
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass: -1", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:3: bodies[0].mass: must be > 0, got -1");
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass: .nan", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:3: bodies[0].mass: must be a finite number");
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass: heavy", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:3: bodies[0].mass: expected a number");
+  // An empty value is reported on the line of its key.
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass:", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:3: bodies[0].mass: expected a number");
+}
+
+TEST(ModelReader, MalformedExpression) {
+  const std::string what =
+      error_of(with_bodies({"loads:", "  - body: top", "    force: [0, \"2*x\", 0]"}));
+  EXPECT_EQ(what.rfind("m.yaml:8: loads[0].force[1]: invalid expression \"2*x\": ", 0), 0u) << what;
+  EXPECT_NE(what.find("\"x\""), std::string::npos) << what;  // muParser names the token
+  EXPECT_EQ(error_of(with_bodies({"loads:", "  - body: top", "    moment: [0, 0, \"sin(t\"]"})),
+            "m.yaml:8: loads[0].moment[2]: invalid expression \"sin(t\": Missing parenthesis");
+}
+
+TEST(ModelReader, InertiaTriangleInequality) {
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass: 1", "    inertia: [1, 1, 3]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:4: bodies[0].inertia: principal moments violate the triangle inequality J3 "
+            "<= J1 + J2 (3 > 2)");
+  // Equality (a flat plate) is allowed; so is rounding in the sum.
+  EXPECT_NO_THROW(
+      read_model_string(lines({"bodies:", "  - name: top", "    mass: 1",
+                               "    inertia: [0.1, 0.2, 0.3]", "    position: [0, 0, 0]"}),
+                        "m.yaml"));
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: top", "    mass: 1", "    inertia: [1, 0, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:4: bodies[0].inertia[1]: must be > 0, got 0");
+}
+
+TEST(ModelReader, VectorsNeedThreeFiniteNumbers) {
+  EXPECT_EQ(error_of(with_bodies({"gravity: [0, -9.81]"})),
+            "m.yaml:6: gravity: expected a list of 3 numbers [x, y, z]");
+  EXPECT_EQ(error_of(with_bodies({"gravity: [0, .inf, 0]"})),
+            "m.yaml:6: gravity[1]: must be a finite number");
+  EXPECT_EQ(error_of(with_bodies({"    velocity: [0, 0, fast]"})),
+            "m.yaml:6: bodies[0].velocity[2]: expected a number");
+}
+
+TEST(ModelReader, JointGeometryRules) {
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 1]"})),
+            "m.yaml:10: joints[0].axis: not allowed for a spherical joint");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: revolute", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 0]"})),
+            "m.yaml:10: joints[0].axis: must be a nonzero vector");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: universal", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 1]",
+                                  "    axis2: [0, 1, 1]"})),
+            "m.yaml:11: joints[0].axis2: must be perpendicular to axis (cosine of the angle "
+            "0.7071067811865475)");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: revolute", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 1]",
+                                  "    axis2: [1, 0, 0]"})),
+            "m.yaml:11: joints[0].axis2: not allowed for a revolute joint (only universal)");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    point_b: [0, 0, 0]"})),
+            "m.yaml:10: joints[0].point_b: give either point or point_b, not both");
+  const model::Model m =
+      read_model_string(with_bodies({"joints:", "  - type: rigid", "    body_b: top"}), "m.yaml");
+  EXPECT_FALSE(m.joints[0].point || m.joints[0].point_b);
+}
+
+TEST(ModelReader, NamesMustBeUnique) {
+  EXPECT_EQ(error_of(with_bodies({"  - name: top", "    mass: 1", "    inertia: [1, 1, 1]",
+                                  "    position: [0, 0, 0]"})),
+            "m.yaml:6: bodies[1].name: duplicate body name \"top\" (first at line 2)");
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: ground", "    mass: 1", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:2: bodies[0].name: \"ground\" is reserved for the fixed space");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - name: joint1", "    type: fixed",
+                                  "    body_b: top", "  - type: fixed", "    body_b: top"})),
+            "m.yaml:10: joints[1].name: duplicate joint name \"joint1\" (first at line 7)");
+  EXPECT_EQ(error_of(with_bodies(
+                {"probes:", "  - name: p", "    body: top", "  - name: p", "    body: top"})),
+            "m.yaml:9: probes[1].name: duplicate probe name \"p\" (first at line 7)");
+}
+
+TEST(ModelReader, SolverAndOutputValues) {
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  formulation: penalty"})),
+            "m.yaml:7: solver.formulation: unknown formulation \"penalty\" (valid: constrained, "
+            "nullspace, reparametrized)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0"})),
+            "m.yaml:7: solver.dt: must be > 0, got 0");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  max_iterations: 2.5"})),
+            "m.yaml:7: solver.max_iterations: expected an integer");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  max_iterations: 0"})),
+            "m.yaml:7: solver.max_iterations: must be >= 1, got 0");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  vtk_every: -1"})),
+            "m.yaml:7: output.vtk_every: must be >= 0, got -1");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  history: maybe"})),
+            "m.yaml:7: output.history: expected true or false");
+}
+
+TEST(ModelReader, ShapesAndPoints) {
+  EXPECT_EQ(error_of(with_bodies({"    shape: {type: cone, radius: 1}"})),
+            "m.yaml:6: bodies[0].shape.type: unknown shape type \"cone\" (valid: box, sphere, "
+            "cylinder, pyramid)");
+  EXPECT_EQ(error_of(with_bodies({"    shape: {type: pyramid, base: 1}"})),
+            "m.yaml:6: bodies[0].shape.height: missing required key");
+  EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, radius: -2}"})),
+            "m.yaml:6: bodies[0].shape.radius: must be > 0, got -2");
+  const model::Model m = read_model_string(
+      with_bodies({"    shape: {type: pyramid, base: 2, height: 3, offset: [0, 0, -1]}"}),
+      "m.yaml");
+  EXPECT_EQ(m.bodies[0].shape.kind, model::ShapeKind::pyramid);
+  EXPECT_EQ(m.bodies[0].shape.base, 2.0);
+  EXPECT_EQ(m.bodies[0].shape.height, 3.0);
+  EXPECT_EQ(m.bodies[0].shape.offset, Vec3(0, 0, -1));
+  EXPECT_EQ(error_of(with_bodies({"probes:", "  - name: p", "    body: top", "    point: [0, 0, 0]",
+                                  "    point_local: [0, 0, 0]"})),
+            "m.yaml:10: probes[0].point_local: give either point or point_local, not both");
+}
+
+TEST(ModelReader, DocumentMustBeAMappingWithBodies) {
+  EXPECT_EQ(error_of(""),
+            "m.yaml:1: a model file must be a YAML mapping with the keys name, "
+            "gravity, ...");
+  EXPECT_EQ(error_of(lines({"name: x", "bodies: []"})),
+            "m.yaml:2: bodies: expected a non-empty list of bodies");
+}
+
+// The complete example of docs/model-files.md is a valid model.
+TEST(ModelReader, DocumentationExampleIsValid) {
+  const std::string doc_path = std::string(ISOFLEX_SOURCE_DIR) + "/docs/model-files.md";
+  std::ifstream in(doc_path);
+  ASSERT_TRUE(in) << doc_path;
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto section = doc.find("## Complete example");
+  ASSERT_NE(section, std::string::npos);
+  const auto begin = doc.find("```yaml\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = doc.find("```", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  const model::Model m = read_model_string(doc.substr(begin + 8, end - begin - 8), "example");
+  EXPECT_EQ(m.name, "heavy_top");
+  EXPECT_EQ(m.bodies.size(), 2u);
+  EXPECT_EQ(m.joints.size(), 2u);
+  EXPECT_EQ(m.loads.size(), 1u);
+  EXPECT_EQ(m.probes.size(), 2u);
+}

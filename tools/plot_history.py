@@ -1,0 +1,155 @@
+#!/usr/bin/python3
+"""Plot an isoflex history.csv: energy, momentum and constraint/Newton diagnostics.
+
+usage: plot_history.py HISTORY_CSV [-o OUTDIR]
+
+Writes energy.png, momentum.png and constraints.png to OUTDIR (default: the directory of
+HISTORY_CSV). Needs only python3 and matplotlib. Exit status 2 for a missing file or columns.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
+
+REQUIRED = [
+    "t", "kinetic_energy", "potential_energy", "total_energy", "px", "py", "pz", "Lx", "Ly", "Lz",
+    "constraint_violation", "newton_iterations",
+]
+
+
+def fail(message):
+    print(f"plot_history.py: error: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read_columns(path):
+    """The columns of a CSV file as lists of floats, keyed by header name."""
+    if not os.path.isfile(path):
+        fail(f"no such file: {path}")
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        try:
+            header = [name.strip() for name in next(reader)]
+        except StopIteration:
+            fail(f"{path} is empty")
+        missing = [name for name in REQUIRED if name not in header]
+        if missing:
+            fail(f"{path} lacks column(s): {', '.join(missing)}")
+        columns = {name: [] for name in header}
+        for line_no, row in enumerate(reader, start=2):
+            if not row:
+                continue
+            if len(row) < len(header):  # a row cut short by an interrupted run
+                print(f"plot_history.py: warning: {path}:{line_no}: incomplete row ignored",
+                      file=sys.stderr)
+                continue
+            try:
+                values = [float(v) for v in row[:len(header)]]
+            except ValueError:
+                fail(f"{path}:{line_no}: not a number in {row!r}")
+            for name, v in zip(header, values):
+                columns[name].append(v)
+    if not columns["t"]:
+        fail(f"{path} has no data rows")
+    return columns
+
+
+def plot_energy(c, out):
+    t = c["t"]
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5))
+    ax1.plot(t, c["kinetic_energy"], label="kinetic")
+    ax1.plot(t, c["potential_energy"], label="potential")
+    ax1.plot(t, c["total_energy"], label="total", color="k")
+    ax1.set_ylabel("energy")
+    ax1.legend(loc="best")
+    ax1.grid(True, alpha=0.3)
+    e0 = c["total_energy"][0]
+    scale = abs(e0)
+    if scale > 0.0:
+        drift = [(e - e0) / scale for e in c["total_energy"]]
+        ax2.set_ylabel("(E − E₀) / |E₀|")
+    else:
+        drift = [e - e0 for e in c["total_energy"]]
+        ax2.set_ylabel("E − E₀  (E₀ = 0)")
+    ax2.plot(t, drift, color="k")
+    ax2.set_xlabel("t")
+    ax2.grid(True, alpha=0.3)
+    fig.suptitle("Energy")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def plot_momentum(c, out):
+    t = c["t"]
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5))
+    for name in ("px", "py", "pz"):
+        ax1.plot(t, c[name], label=name)
+    ax1.set_ylabel("linear momentum")
+    ax1.legend(loc="best")
+    ax1.grid(True, alpha=0.3)
+    for name in ("Lx", "Ly", "Lz"):
+        ax2.plot(t, c[name], label=name)
+    ax2.set_ylabel("angular momentum (origin)")
+    ax2.set_xlabel("t")
+    ax2.legend(loc="best")
+    ax2.grid(True, alpha=0.3)
+    fig.suptitle("Momentum")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def plot_constraints(c, out):
+    t = c["t"]
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5))
+    viol = c["constraint_violation"]
+    positive = [v for v in viol if v > 0.0 and math.isfinite(v)]
+    if positive:
+        # zeros (e.g. the initial state) cannot be drawn on a log axis: leave gaps
+        ax1.semilogy(t, [v if v > 0.0 else math.nan for v in viol], color="C3")
+    else:
+        ax1.plot(t, viol, color="C3")
+        ax1.text(0.5, 0.5, "all zero", transform=ax1.transAxes, ha="center")
+    ax1.set_ylabel("max |Φ|")
+    ax1.grid(True, which="both", alpha=0.3)
+    ax2.step(t, c["newton_iterations"], where="mid", color="C0")
+    ax2.yaxis.set_major_locator(MaxNLocator(integer=True))
+    ax2.set_ylabel("Newton iterations")
+    ax2.set_xlabel("t")
+    ax2.grid(True, alpha=0.3)
+    fig.suptitle("Constraints and Newton iterations")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description="Plot an isoflex history.csv.")
+    parser.add_argument("history", metavar="HISTORY_CSV", help="history.csv written by isoflex")
+    parser.add_argument("-o", "--outdir", help="directory for the PNG files (default: next to "
+                        "HISTORY_CSV)")
+    args = parser.parse_args(argv)
+    columns = read_columns(args.history)
+    outdir = args.outdir or os.path.dirname(os.path.abspath(args.history))
+    os.makedirs(outdir, exist_ok=True)
+    written = []
+    for name, plot in (("energy.png", plot_energy), ("momentum.png", plot_momentum),
+                       ("constraints.png", plot_constraints)):
+        path = os.path.join(outdir, name)
+        plot(columns, path)
+        written.append(path)
+    for path in written:
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
