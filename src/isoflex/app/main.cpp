@@ -1,6 +1,36 @@
-// Placeholder entry point; the command line is built in app/.
+// The `isoflex` command line: run, check, --version (README "A short tour").
+#include <CLI/CLI.hpp>
 #include <cstdio>
-int main() {
-  std::puts("isoflex " ISOFLEX_VERSION);
-  return 0;
+
+#include "isoflex/app/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"isoflex — flexible multibody dynamics with energy-momentum integrators"};
+  app.set_version_flag("--version", std::string("isoflex ") + ISOFLEX_VERSION);
+  app.require_subcommand(1);
+
+  isoflex::app::RunOptions run;
+  std::string formulation;
+  auto* r = app.add_subcommand("run", "integrate a model and write results");
+  r->add_option("MODEL", run.model_file, "model file (YAML)")->required();
+  r->add_option("-o,--output", run.outdir, "output directory (default out/<model folder>)");
+  r->add_option("--formulation", formulation, "constrained | nullspace | reparametrized")
+      ->check(CLI::IsMember({"constrained", "nullspace", "reparametrized"}));
+  r->add_option("--dt", run.dt, "time step (overrides the model)");
+  r->add_option("--t-end", run.t_end, "end time (overrides the model)");
+
+  std::string check_file;
+  auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");
+  c->add_option("MODEL", check_file, "model file (YAML)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  if (!formulation.empty()) run.formulation = isoflex::model::formulation_from_string(formulation);
+  if (*r) return isoflex::app::run_command(run);
+  if (*c) return isoflex::app::check_command(check_file);
+  return 2;
 }

@@ -1,0 +1,408 @@
+// Chain benchmark: N slender rigid bodies linked by spherical joints, hanging from the ground,
+// swinging from an initially horizontal configuration under gravity (see bench/README.md).
+//
+//   chain_bench [--n 10,100] [--steps 1000] [--formulations constrained,nullspace,reparametrized]
+//               [--cond] [--dt 0.01] [--csv FILE] [--max-seconds S]
+//
+// Per N and formulation: wall time per step (steady_clock, total over the stepping loop / steps,
+// System::compile and the energy bookkeeping excluded), average Newton iterations per step, the
+// sizes n, m_selected, k and the size of the Newton system, and the relative energy drift
+// max|E − E₀|/|E₀|. With --cond: the 2-norm condition number of the Newton matrix of the first
+// step at the Newton start and at the converged solution, for Δt ∈ {1e-2, 1e-3, 1e-4}.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/model/model.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace {
+
+using namespace isoflex;
+using Clock = std::chrono::steady_clock;
+using model::Formulation;
+
+struct Options {
+  std::vector<int> ns{10, 100};
+  int steps = 1000;
+  std::vector<Formulation> formulations{Formulation::constrained, Formulation::nullspace,
+                                        Formulation::reparametrized};
+  bool cond = false;
+  double dt = 1e-2;
+  std::string csv;
+  double max_seconds = 0.0;  // 0 = no limit; otherwise stop a run after this much stepping time
+};
+
+[[noreturn]] void usage(const std::string& msg) {
+  std::fprintf(stderr,
+               "chain_bench: %s\n"
+               "usage: chain_bench [--n 10,100] [--steps 1000]\n"
+               "                   [--formulations constrained,nullspace,reparametrized]\n"
+               "                   [--cond] [--dt 0.01] [--csv FILE] [--max-seconds S]\n",
+               msg.c_str());
+  std::exit(2);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const std::size_t comma = s.find(',', start);
+    const std::size_t end = comma == std::string::npos ? s.size() : comma;
+    if (end > start) out.push_back(s.substr(start, end - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+long parse_int(const std::string& s, const std::string& what) {
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end != '\0' || v <= 0) usage(fmt::format("bad {} '{}'", what, s));
+  return v;
+}
+
+double parse_double(const std::string& s, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != '\0' || !(v >= 0)) usage(fmt::format("bad {} '{}'", what, s));
+  return v;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--n") {
+      o.ns.clear();
+      for (const auto& s : split(value())) o.ns.push_back(static_cast<int>(parse_int(s, "N")));
+      if (o.ns.empty()) usage("--n needs at least one N");
+    } else if (a == "--steps") {
+      o.steps = static_cast<int>(parse_int(value(), "step count"));
+    } else if (a == "--formulations") {
+      o.formulations.clear();
+      for (const auto& s : split(value())) {
+        const auto f = model::formulation_from_string(s);
+        if (!f) usage(fmt::format("unknown formulation '{}'", s));
+        o.formulations.push_back(*f);
+      }
+      if (o.formulations.empty()) usage("--formulations needs at least one formulation");
+    } else if (a == "--cond") {
+      o.cond = true;
+    } else if (a == "--dt") {
+      o.dt = parse_double(value(), "time step");
+      if (!(o.dt > 0)) usage("--dt must be positive");
+    } else if (a == "--csv") {
+      o.csv = value();
+    } else if (a == "--max-seconds") {
+      o.max_seconds = parse_double(value(), "time limit");
+    } else if (a == "-h" || a == "--help") {
+      usage("help");
+    } else {
+      usage(fmt::format("unknown argument '{}'", a));
+    }
+  }
+  return o;
+}
+
+// The chain: body i spans x ∈ [i, i + 1] (d₁ = x), spherical joints at x = 0 (to the ground),
+// 1, …, N − 1. The first body turns about z at 0.5 rad/s; System::compile projects the given
+// velocities onto the admissible ones.
+model::Model chain(int N, Formulation f, double dt) {
+  model::Model m;
+  m.name = fmt::format("chain{}", N);
+  m.gravity = Vec3(0, 0, -9.81);
+  for (int i = 0; i < N; ++i) {
+    model::Body b;
+    b.name = fmt::format("b{}", i);
+    b.mass = 1.0;
+    b.inertia = Vec3(0.01, 1.0 / 12.0, 1.0 / 12.0);
+    b.position = Vec3(i + 0.5, 0, 0);
+    b.orientation = Mat3::Identity();
+    b.shape.kind = model::ShapeKind::box;
+    b.shape.size = Vec3(1.0, 0.1, 0.1);
+    if (i == 0) {
+      b.angular_velocity = Vec3(0, 0, 0.5);
+      b.velocity = b.angular_velocity.cross(b.position);
+    }
+    m.bodies.push_back(b);
+    model::Joint j;
+    j.name = fmt::format("s{}", i);
+    j.type = model::JointType::spherical;
+    j.body_a = i == 0 ? std::string("ground") : fmt::format("b{}", i - 1);
+    j.body_b = b.name;
+    j.point = Vec3(i, 0, 0);
+    m.joints.push_back(j);
+  }
+  m.solver.formulation = f;
+  m.solver.dt = dt;
+  return m;
+}
+
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+struct RunResult {
+  int N = 0;
+  Formulation f{};
+  int n = 0, m_selected = 0, k = 0, dof = 0, unknowns = 0;
+  int steps_requested = 0, steps_done = 0;
+  double compile_s = 0.0, total_s = 0.0, per_step_s = 0.0;
+  double avg_iterations = 0.0;
+  int max_iterations = 0;
+  double E0 = 0.0, drift_abs = 0.0, drift_rel = 0.0, max_violation = 0.0;
+  double v0_projection_error = 0.0;
+  std::string status = "ok";
+};
+
+RunResult run(int N, Formulation f, const Options& o) {
+  RunResult r;
+  r.N = N;
+  r.f = f;
+  r.steps_requested = o.steps;
+  const model::Model m = chain(N, f, o.dt);
+  const auto c0 = Clock::now();
+  const system::System sys = system::System::compile(m);
+  r.compile_s = seconds(Clock::now() - c0);
+  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+  r.n = sys.n();
+  r.m_selected = sys.m_selected();
+  r.k = sys.k();
+  r.dof = sys.dof();
+  r.unknowns = integ.unknowns();
+  r.v0_projection_error = sys.initial_velocity_projection_error();
+
+  integrate::State s = integ.initial_state();
+  const integrate::Snapshot snap0 = integ.snapshot(s, {}, {});
+  r.E0 = snap0.total_energy;
+  Clock::duration stepping{};
+  long iterations = 0;
+  for (int i = 0; i < o.steps; ++i) {
+    integrate::StepStats st;
+    const auto t0 = Clock::now();
+    try {
+      st = integ.step(s);
+    } catch (const std::exception& e) {
+      stepping += Clock::now() - t0;
+      r.status = fmt::format("Newton failure: {}", e.what());
+      break;
+    }
+    const auto dt_step = Clock::now() - t0;
+    stepping += dt_step;
+    ++r.steps_done;
+    iterations += st.iterations;
+    r.max_iterations = std::max(r.max_iterations, st.iterations);
+    if (seconds(dt_step) > 1.0)
+      std::fprintf(stderr, "  [N=%d %s] step %d: %.2f s, %d iterations\n", N, model::to_string(f),
+                   i + 1, seconds(dt_step), st.iterations);
+    // Energy bookkeeping, outside the timed region.
+    const integrate::Snapshot snap = integ.snapshot(s, st, {});
+    r.drift_abs = std::max(r.drift_abs, std::abs(snap.total_energy - r.E0));
+    r.max_violation = std::max(r.max_violation, snap.constraint_violation);
+    if (o.max_seconds > 0 && seconds(stepping) > o.max_seconds && i + 1 < o.steps) {
+      r.status = fmt::format("stopped by --max-seconds after {} steps", r.steps_done);
+      break;
+    }
+  }
+  r.total_s = seconds(stepping);
+  if (r.steps_done > 0) {
+    r.per_step_s = r.total_s / r.steps_done;
+    r.avg_iterations = double(iterations) / r.steps_done;
+  }
+  r.drift_rel = r.drift_abs / std::abs(r.E0);
+  return r;
+}
+
+struct CondResult {
+  int N = 0;
+  Formulation f{};
+  double dt = 0.0;
+  int size_rows = 0, size_cols = 0;
+  double cond_start = 0.0, cond_converged = 0.0;
+  int newton_iterations = 0;
+  double final_residual = 0.0;
+  double seconds = 0.0;
+};
+
+// Condition numbers of the Newton matrix of the first step, at the Newton start and at the
+// converged solution (reached by plain Newton on residual(), dense LU).
+CondResult condition(const system::System& sys, int N, Formulation f, double dt) {
+  CondResult c;
+  c.N = N;
+  c.f = f;
+  c.dt = dt;
+  const auto t0 = Clock::now();
+  model::Solver settings;
+  settings.formulation = f;
+  settings.dt = dt;
+  const integrate::EnergyMomentumIntegrator integ(sys, settings);
+  const integrate::State s = integ.initial_state();
+  VecX x = integ.start_unknowns(s);
+  MatX J;
+  VecX R = integ.residual(s, x, &J);
+  c.size_rows = static_cast<int>(J.rows());
+  c.size_cols = static_cast<int>(J.cols());
+  c.cond_start = solve::condition_number(J);
+  for (int it = 0; it < settings.max_iterations; ++it) {
+    const VecX dx = J.partialPivLu().solve(-R);
+    x += dx;
+    R = integ.residual(s, x, &J);
+    c.newton_iterations = it + 1;
+    if (dx.lpNorm<Eigen::Infinity>() <=
+        settings.increment_tolerance * std::max(1.0, x.lpNorm<Eigen::Infinity>()))
+      break;
+  }
+  c.final_residual = R.lpNorm<Eigen::Infinity>();
+  c.cond_converged = solve::condition_number(J);
+  c.seconds = seconds(Clock::now() - t0);
+  return c;
+}
+
+std::string csv_cond_path(const std::string& path) {
+  const std::size_t dot = path.rfind('.');
+  const std::size_t slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return path + "_cond.csv";
+  return path.substr(0, dot) + "_cond" + path.substr(dot);
+}
+
+const RunResult* find(const std::vector<RunResult>& runs, int N, Formulation f) {
+  for (const auto& r : runs)
+    if (r.N == N && r.f == f && r.steps_done > 0) return &r;
+  return nullptr;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+
+  std::vector<RunResult> runs;
+  fmt::print("chain of N bodies on spherical joints, dt = {:g}, {} steps\n\n", o.dt, o.steps);
+  fmt::print(
+      "{:>6} {:<15} {:>6} {:>6} {:>6} {:>8} {:>7} {:>12} {:>9} {:>6} {:>10} {:>10} {:>10} {}\n",
+      "N", "formulation", "n", "m_sel", "k", "unknowns", "steps", "ms/step", "avg_it", "max_it",
+      "dE_rel", "dE_abs", "max|Phi|", "status");
+  for (int N : o.ns) {
+    for (Formulation f : o.formulations) {
+      const RunResult r = run(N, f, o);
+      fmt::print(
+          "{:>6} {:<15} {:>6} {:>6} {:>6} {:>8} {:>7} {:>12.4f} {:>9.3f} {:>6} {:>10.2e} "
+          "{:>10.2e} {:>10.2e} {}\n",
+          r.N, model::to_string(r.f), r.n, r.m_selected, r.k, r.unknowns, r.steps_done,
+          1e3 * r.per_step_s, r.avg_iterations, r.max_iterations, r.drift_rel, r.drift_abs,
+          r.max_violation, r.status);
+      std::fflush(stdout);
+      runs.push_back(r);
+    }
+  }
+  if (!runs.empty())
+    fmt::print("(E0 = {:.6g}; compile times [s]:{})\n", runs.front().E0, [&] {
+      std::string s;
+      for (const auto& r : runs)
+        s += fmt::format(" {}/{}={:.3f}", r.N, model::to_string(r.f), r.compile_s);
+      return s;
+    }());
+
+  // Ratios.
+  fmt::print("\nratios\n");
+  for (int N : o.ns) {
+    const RunResult* c = find(runs, N, Formulation::constrained);
+    const RunResult* p = find(runs, N, Formulation::reparametrized);
+    const RunResult* z = find(runs, N, Formulation::nullspace);
+    if (c && p)
+      fmt::print(
+          "  N = {:>5}: time/step constrained / reparametrized = {:.3f}  (goal >= 2 at N = "
+          "100)\n",
+          N, c->per_step_s / p->per_step_s);
+    if (c && z)
+      fmt::print("  N = {:>5}: time/step constrained / nullspace      = {:.3f}\n", N,
+                 c->per_step_s / z->per_step_s);
+  }
+  for (Formulation f : o.formulations) {
+    const RunResult* a = find(runs, 100, f);
+    const RunResult* b = find(runs, 1000, f);
+    if (a && b)
+      fmt::print("  {:<15}: time/step N=1000 / N=100 = {:.2f}  (goal <= 12)\n", model::to_string(f),
+                 b->per_step_s / a->per_step_s);
+  }
+
+  std::vector<CondResult> conds;
+  if (o.cond) {
+    fmt::print("\ncondition number of the Newton matrix, first step (2-norm, dense SVD)\n");
+    fmt::print("{:>6} {:<15} {:>8} {:>11} {:>12} {:>12} {:>5} {:>10} {:>8}\n", "N", "formulation",
+               "dt", "size", "cond_start", "cond_conv", "it", "|R|_inf", "time_s");
+    for (int N : o.ns) {
+      if (N > 100) {
+        fmt::print("{:>6} (skipped: --cond only for N <= 100)\n", N);
+        continue;
+      }
+      const system::System sys = system::System::compile(chain(N, Formulation::constrained, o.dt));
+      for (Formulation f : o.formulations) {
+        for (double dt : {1e-2, 1e-3, 1e-4}) {
+          const CondResult c = condition(sys, N, f, dt);
+          fmt::print("{:>6} {:<15} {:>8.0e} {:>11} {:>12.4e} {:>12.4e} {:>5} {:>10.2e} {:>8.2f}\n",
+                     c.N, model::to_string(c.f), c.dt,
+                     fmt::format("{}x{}", c.size_rows, c.size_cols), c.cond_start, c.cond_converged,
+                     c.newton_iterations, c.final_residual, c.seconds);
+          std::fflush(stdout);
+          conds.push_back(c);
+        }
+      }
+    }
+  }
+
+  if (!o.csv.empty()) {
+    std::FILE* out = std::fopen(o.csv.c_str(), "w");
+    if (!out) {
+      std::fprintf(stderr, "chain_bench: cannot write %s\n", o.csv.c_str());
+      return 1;
+    }
+    fmt::print(out,
+               "N,formulation,dt,n,m_selected,k,dof,unknowns,steps_requested,steps_done,compile_s,"
+               "total_s,s_per_step,avg_iterations,max_iterations,E0,energy_drift_abs,"
+               "energy_drift_rel,max_constraint_violation,status\n");
+    for (const auto& r : runs)
+      fmt::print(out,
+                 "{},{},{:g},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{},{:.17g},{:.6g},"
+                 "{:.6g},{:.6g},\"{}\"\n",
+                 r.N, model::to_string(r.f), o.dt, r.n, r.m_selected, r.k, r.dof, r.unknowns,
+                 r.steps_requested, r.steps_done, r.compile_s, r.total_s, r.per_step_s,
+                 r.avg_iterations, r.max_iterations, r.E0, r.drift_abs, r.drift_rel,
+                 r.max_violation, r.status);
+    std::fclose(out);
+    if (!conds.empty()) {
+      const std::string path = csv_cond_path(o.csv);
+      std::FILE* oc = std::fopen(path.c_str(), "w");
+      if (!oc) {
+        std::fprintf(stderr, "chain_bench: cannot write %s\n", path.c_str());
+        return 1;
+      }
+      fmt::print(oc,
+                 "N,formulation,dt,rows,cols,cond_start,cond_converged,newton_iterations,"
+                 "final_residual\n");
+      for (const auto& c : conds)
+        fmt::print(oc, "{},{},{:g},{},{},{:.6g},{:.6g},{},{:.3g}\n", c.N, model::to_string(c.f),
+                   c.dt, c.size_rows, c.size_cols, c.cond_start, c.cond_converged,
+                   c.newton_iterations, c.final_residual);
+      std::fclose(oc);
+    }
+  }
+  return 0;
+}

@@ -1,1 +1,0 @@
-// (room app: sources follow)

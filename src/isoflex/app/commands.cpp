@@ -1,0 +1,188 @@
+#include "isoflex/app/commands.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "isoflex/app/progress.hpp"
+#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/io/history_writer.hpp"
+#include "isoflex/io/model_error.hpp"
+#include "isoflex/io/model_reader.hpp"
+#include "isoflex/io/summary_writer.hpp"
+#include "isoflex/io/vtk_writer.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::app {
+
+namespace {
+
+struct Loaded {
+  model::Model model;
+  std::unique_ptr<system::System> sys;
+};
+
+// Reads and compiles a model; prints one error line and returns nullopt on bad input.
+std::optional<Loaded> load(const std::string& file, std::FILE* err) {
+  try {
+    Loaded l{io::read_model(file), nullptr};
+    l.sys = std::make_unique<system::System>(system::System::compile(l.model));
+    return l;
+  } catch (const io::ModelError& e) {
+    fmt::print(err, "error: {}\n", e.what());
+  } catch (const system::CompileError& e) {
+    fmt::print(err, "error: {}\n", e.what());
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> body_names(const model::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& b : m.bodies) names.push_back(b.name);
+  return names;
+}
+
+// Joint names of the rows in `rows`, with how many rows of each.
+std::string rows_by_joint(const system::System& sys, const std::vector<int>& rows) {
+  std::vector<std::pair<std::string, int>> by;
+  for (int r : rows) {
+    const int j = sys.joint_of_row(r);
+    const std::string name = j < 0 ? "internal" : sys.joints()[j].name;
+    if (!by.empty() && by.back().first == name)
+      ++by.back().second;
+    else
+      by.push_back({name, 1});
+  }
+  std::string s;
+  for (const auto& [n, c] : by) s += fmt::format("{}{} ({} rows)", s.empty() ? "" : ", ", n, c);
+  return s;
+}
+
+}  // namespace
+
+int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
+  auto l = load(file, err);
+  if (!l) return 2;
+  const auto& sys = *l->sys;
+  const int m_int = 6 * sys.node_count();
+  fmt::print(out, "model            {}\n", file);
+  fmt::print(out, "bodies           {}\n", l->model.bodies.size());
+  fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
+  fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
+  fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
+             sys.m_selected(), m_int, sys.m_selected() - m_int);
+  fmt::print(out, "redundant        {}", sys.redundant_rows().size());
+  if (!sys.redundant_rows().empty())
+    fmt::print(out, "  (dropped: {}; full-pivot LU rank {} = pivoted QR rank {})",
+               rows_by_joint(sys, sys.redundant_rows()), sys.cut_rank(), sys.cut_rank_qr());
+  fmt::print(out, "\n");
+  fmt::print(out, "dof              {}  (n - m)\n", sys.n() - sys.m_selected());
+  fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
+  fmt::print(out, "unknowns         constrained {}, nullspace {}, reparametrized {}\n",
+             sys.n() + sys.m_selected(), sys.n(), sys.k());
+  if (sys.initial_velocity_projection_error() > 1e-9)
+    fmt::print(out,
+               "warning          initial velocities violate the joints; projected (relative change "
+               "{:.3g})\n",
+               sys.initial_velocity_projection_error());
+  fmt::print(out, "joint forest\n{}", sys.describe_forest(l->model));
+  return 0;
+}
+
+int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
+  auto l = load(o.model_file, err);
+  if (!l) return 2;
+  model::Model& m = l->model;
+  if (o.formulation) m.solver.formulation = *o.formulation;
+  if (o.dt) m.solver.dt = *o.dt;
+  if (o.t_end) m.solver.t_end = *o.t_end;
+  if (!(m.solver.dt > 0) || !(m.solver.t_end > 0)) {
+    fmt::print(err, "error: --dt and --t-end must be positive\n");
+    return 2;
+  }
+  const std::filesystem::path outdir =
+      o.outdir.empty() ? std::filesystem::path("out") /
+                             std::filesystem::path(o.model_file).parent_path().filename()
+                       : std::filesystem::path(o.outdir);
+  std::error_code ec;
+  std::filesystem::create_directories(outdir, ec);
+  if (ec) {
+    fmt::print(err, "error: {}: cannot create output directory: {}\n", outdir.string(),
+               ec.message());
+    return 2;
+  }
+
+  const auto& sys = *l->sys;
+  integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+  std::vector<std::unique_ptr<integrate::Observer>> observers;
+  if (m.output.history) observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
+  observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
+  if (m.output.vtk_every > 0)
+    observers.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
+  observers.push_back(std::make_unique<ProgressBar>(m.solver.t_end, err));
+
+  io::RunSummary sum;
+  sum.model = o.model_file;
+  sum.formulation = model::to_string(m.solver.formulation);
+  sum.n_coordinates = sys.n();
+  sum.n_constraints = sys.m_selected();
+  sum.n_unknowns = integ.unknowns();
+  sum.n_redundant_constraints = static_cast<int>(sys.redundant_rows().size());
+  sum.dt = m.solver.dt;
+  sum.t_end = m.solver.t_end;
+  const bool conservative = m.loads.empty();
+  sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
+
+  const auto names = body_names(m);
+  auto state = integ.initial_state();
+  auto snap = integ.snapshot(state, {}, names);
+  sum.energy_initial = snap.total_energy;
+  sum.max_constraint_violation = snap.constraint_violation;
+  for (auto& ob : observers) ob->on_snapshot(snap);
+  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
+  const auto t0 = std::chrono::steady_clock::now();
+  int code = 0;
+  for (int i = 0; i < steps; ++i) {
+    integrate::StepStats st;
+    try {
+      st = integ.step(state);
+    } catch (const integrate::NewtonFailure& e) {
+      sum.status = "failed";
+      sum.message = e.what();
+      code = 3;
+      break;
+    }
+    snap = integ.snapshot(state, st, names);
+    for (auto& ob : observers) ob->on_snapshot(snap);
+    ++sum.steps;
+    sum.newton_iterations_total += st.iterations;
+    sum.max_constraint_violation =
+        std::max(sum.max_constraint_violation, snap.constraint_violation);
+    if (conservative)
+      sum.max_energy_drift_after_loads = std::max(
+          sum.max_energy_drift_after_loads, std::abs(snap.total_energy - sum.energy_initial) /
+                                                std::max(std::abs(sum.energy_initial), 1e-300));
+  }
+  sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (auto& ob : observers) ob->on_finish();
+  sum.energy_final = snap.total_energy;
+  sum.probes = snap.probes;
+  io::write_summary_json(outdir / "summary.json", sum);
+  if (code != 0) {
+    fmt::print(err, "error: {}\n(results up to t = {:.6g} are in {})\n", sum.message, state.t,
+               outdir.string());
+    return code;
+  }
+  fmt::print(out,
+             "{}: {} steps, {} unknowns ({}), {} Newton iterations, {:.3f} s; energy {:.12g} -> "
+             "{:.12g}; max |Phi| {:.2e}; results in {}\n",
+             o.model_file, sum.steps, sum.n_unknowns, sum.formulation, sum.newton_iterations_total,
+             sum.wall_time_s, sum.energy_initial, sum.energy_final, sum.max_constraint_violation,
+             outdir.string());
+  return 0;
+}
+
+}  // namespace isoflex::app

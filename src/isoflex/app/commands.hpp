@@ -1,0 +1,22 @@
+#pragma once
+// The subcommands of the `isoflex` tool. Each returns the process exit code:
+// 0 success, 2 bad input (model file, options), 3 the simulation failed (Newton).
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::app {
+
+struct RunOptions {
+  std::string model_file;
+  std::string outdir;  // default: out/<model file stem>
+  std::optional<model::Formulation> formulation;
+  std::optional<double> dt, t_end;
+};
+
+int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);
+int check_command(const std::string& model_file, std::FILE* out = stdout, std::FILE* err = stderr);
+
+}  // namespace isoflex::app

@@ -1,0 +1,153 @@
+// The `isoflex` executable end to end: exit codes, messages, output files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
+  Result r{-1, {}};
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("isoflex_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+const char* kGood = R"(name: pendulum
+gravity: [0, 0, -9.81]
+solver: {dt: 0.01, t_end: 0.2}
+bodies:
+  - name: bob
+    mass: 1.0
+    inertia: [0.1, 0.1, 0.1]
+    position: [1, 0, 0]
+joints:
+  - {type: spherical, body_b: bob, point: [0, 0, 0]}
+probes:
+  - {name: bob, body: bob}
+)";
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const auto p = text.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  return text.replace(p, from.size(), to);
+}
+}  // namespace
+
+TEST(Cli, Version) {
+  const auto r = run("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("isoflex 0."), std::string::npos);
+}
+
+TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
+  const fs::path d = temp_dir("run");
+  std::ofstream(d / "m.yaml") << kGood;
+  const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() +
+                     " --formulation constrained");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string h = read(d / "out/history.csv");
+  EXPECT_EQ(h.rfind("t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,constraint_"
+                    "violation,newton_iterations,residual\n",
+                    0),
+            0u);
+  EXPECT_EQ(std::count(h.begin(), h.end(), '\n'), 22);  // header + initial + 20 steps
+  const std::string s = read(d / "out/summary.json");
+  EXPECT_NE(s.find("\"n_coordinates\": 12"), std::string::npos) << s;
+  EXPECT_NE(s.find("\"n_constraints\": 9"), std::string::npos);
+  EXPECT_NE(s.find("\"n_unknowns\": 21"), std::string::npos);
+  EXPECT_NE(s.find("\"formulation\": \"constrained\""), std::string::npos);
+  EXPECT_NE(s.find("\"steps\": 20"), std::string::npos);
+  EXPECT_NE(s.find("\"bob\": {\"position\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "out/results.pvd"));
+  EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
+}
+
+TEST(Cli, CheckPrintsCountsAndForest) {
+  const auto r = run("check " + std::string(ISOFLEX_SOURCE_DIR) + "/examples/four_bar/model.yaml");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("n                36"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("m                35"), std::string::npos);
+  EXPECT_NE(r.out.find("redundant        3  (dropped: B (3 rows)"), std::string::npos);
+  EXPECT_NE(r.out.find("dof              1"), std::string::npos);
+  EXPECT_NE(r.out.find("cut   B"), std::string::npos);
+}
+
+// Bad model files: one error line naming file, line and key; exit code 2; nothing written.
+TEST(Cli, BadModelsGiveLocatedErrorsAndExitCode2) {
+  const fs::path d = temp_dir("bad");
+  const std::string f = (d / "m.yaml").string();
+  const struct {
+    std::string text, expected;
+  } cases[] = {
+      {with(kGood, "    mass: 1.0\n", ""), f + ":5: bodies[0].mass: missing required key"},
+      {with(kGood, "type: spherical", "type: hinge"),
+       f + ":10: joints[0].type: unknown joint type \"hinge\""},
+      {with(kGood, "body_b: bob, point", "body_b: bobby, point"),
+       f + ":10: joints[0].body_b: no body named \"bobby\""},
+      {with(kGood, "mass: 1.0", "mass: -1.0"), f + ":6: bodies[0].mass:"},
+      {with(kGood, "    position: [1, 0, 0]\n",
+            "    position: [1, 0, 0]\n    orientation: [[1, 0, 0], [0, 1, 0], [0, 1, 0]]\n"),
+       f + ":9: bodies[0].orientation: orientation is not an orthonormal right-handed triad"},
+      {std::string(kGood) + "loads:\n  - {body: bob, force: [\"sin(t\", 0, 0]}\n",
+       f + ":14: loads[0].force[0]: invalid expression"},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(f) << c.text;
+    const auto r = run("run " + f + " -o " + (d / "out").string());
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("error: " + c.expected), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(d / "out")) << "nothing is written for a bad model";
+    const auto k = run("check " + f);
+    EXPECT_EQ(k.code, 2);
+  }
+  const auto missing = run("check " + (d / "nope.yaml").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("cannot open model file"), std::string::npos);
+  EXPECT_EQ(run("run").code, 2);
+  EXPECT_EQ(run("run " + f + " --formulation fancy").code, 2);
+}
+
+// A Newton failure stops the run with the step and residual, keeps the results so far, exit 3.
+TEST(Cli, NewtonFailureKeepsResultsAndSaysWhere) {
+  const fs::path d = temp_dir("diverge");
+  std::ofstream(d / "m.yaml") << with(kGood, "solver: {dt: 0.01, t_end: 0.2}",
+                                      "solver: {dt: 0.01, t_end: 0.2, max_iterations: 1}");
+  const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("step 1 (t = 0.01): Newton did not converge in 1 iterations; residual"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(read(d / "out/summary.json").find("\"status\": \"failed\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "out/history.csv"));
+}
