@@ -45,3 +45,12 @@ TEST(DirectorNode, UpdateKeepsUnitLengthAndHasExactDerivative) {
     EXPECT_LT((Bn.transpose() * d).norm(), 1e-14);
   }
 }
+
+#include "isoflex/math/point_node.hpp"
+
+TEST(PointNode, UpdateIsTranslationWithIdentityNullSpace) {
+  const Vec3 q(1, 2, 3), u(0.5, -1, 2);
+  EXPECT_EQ(point_node::update(q, u), q + u);
+  EXPECT_EQ(point_node::null_space(q), Mat3::Identity());
+  EXPECT_EQ(point_node::update_derivative(q, u), Mat3::Identity());
+}
