@@ -17,7 +17,7 @@ class BodyLoad {
            std::optional<std::array<TimeFunction, 3>> moment);
 
   int node() const { return node_; }
-  // Generalized force (12) at configuration q and time t.
+  // Generalized force (a 12-vector in the node coordinates) at configuration q and time t.
   Vec<12> generalized_force(const Vec<12>& q, double t) const;
   // ∂f/∂q (12 × 12), constant in q.
   Mat<12, 12> generalized_force_derivative(double t) const;

@@ -100,7 +100,7 @@ struct Solver {
   Formulation formulation = Formulation::reparametrized;
   double dt = 1e-2;
   double t_end = 1.0;
-  double residual_tolerance = 1e-16;  // ‖R‖∞ relative to (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞
+  double residual_tolerance = 1e-16;  // ‖R‖∞ relative to max(1, (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞)
   double increment_tolerance = 1e-11;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
   int max_iterations = 25;
 };
