@@ -92,3 +92,23 @@ inline model::Model free_body_flip(model::Formulation f = model::Formulation::re
 }
 
 }  // namespace isoflex::test
+
+namespace isoflex::test {
+// A chain of n slender bodies on spherical joints hanging from the ground, initially along +x.
+inline model::Model chain(int n, model::Formulation f = model::Formulation::reparametrized) {
+  model::Model m;
+  m.name = "chain";
+  m.gravity = Vec3(0, 0, -9.81);
+  for (int i = 0; i < n; ++i) {
+    m.bodies.push_back(rod("b" + std::to_string(i), Vec3(i, 0, 0), Vec3(i + 1, 0, 0)));
+    m.joints.push_back(joint(model::JointType::spherical,
+                             i == 0 ? "ground" : "b" + std::to_string(i - 1),
+                             "b" + std::to_string(i), Vec3(i, 0, 0)));
+  }
+  m.bodies[0].angular_velocity = Vec3(0, 0, 0.5);
+  m.bodies[0].velocity = Vec3(0, 0.25, 0);
+  m.solver.formulation = f;
+  m.solver.dt = 0.01;
+  return m;
+}
+}  // namespace isoflex::test

@@ -20,8 +20,12 @@ struct EnergyMomentumIntegrator::StepContext {
 };
 
 EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
-                                                   const model::Solver& settings)
-    : sys_(sys), settings_(settings) {}
+                                                   const model::Solver& settings, ReducedSolve how)
+    : sys_(sys), settings_(settings) {
+  const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
+  bordered_ = possible && (how == ReducedSolve::bordered ||
+                           (how == ReducedSolve::automatic && sys.k() >= 48));
+}
 
 int EnergyMomentumIntegrator::unknowns() const {
   switch (settings_.formulation) {
@@ -83,7 +87,17 @@ void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
 }
 }  // namespace
 
-VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, SpMat* J) const {
+VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
+  if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return solve::solve(J.A, -R);
+  VecX b = VecX::Zero(J.A.rows());
+  b.segment(J.row, R.size()) = -R;
+  const int size = settings_.formulation == F::nullspace ? sys_.n() : sys_.k();
+  return solve::solve(J.A, b).segment(J.col, size);
+}
+
+VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, NewtonMatrix* NJ,
+                                        bool bordered) const {
+  SpMat* J = NJ ? &NJ->A : nullptr;
   const State& s = *c.s;
   const double dt = c.dt;
   const int n = sys_.n();
@@ -110,6 +124,51 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, SpM
       append(t, SpMat(dt * SpMat(Gm.transpose())), 0, n);
       append(t, sys_.jacobian(q1), n, 0);
       J->resize(n + m, n + m);
+      J->setFromTriplets(t.begin(), t.end());
+    }
+    return R;
+  }
+
+  if (bordered) {
+    // 𝖯ᵀ r₀ by a leaves-to-root sweep; Newton matrix in bordered form (header, ReducedSolve).
+    const bool ns = settings_.formulation == F::nullspace;
+    const int N6 = 6 * sys_.node_count(), k = sys_.k();
+    const std::vector<int>& rows = ns ? sys_.selected_rows() : sys_.cut_rows();
+    const int mc = static_cast<int>(rows.size());
+    VecX R(k + mc);
+    R.head(k) = sys_.reduce(qm, r0);
+    const VecX phi = sys_.constraints(q1);
+    for (int i = 0; i < mc; ++i) R(k + i) = phi(rows[i]);
+    if (J) {
+      const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
+      const SpMat K =
+          (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+      SpMat Lm, Bm, Pm;
+      sys_.tree_factors(qm, Lm, Bm, Pm);
+      const SpMat PmT = Pm.transpose(), LmT = Lm.transpose(), BmT = Bm.transpose();
+      if (ns) {
+        // [−P_intᵀK̂  (I−𝒜)ᵀ; 0  ℬᵀ; G(q_{n+1})  0] [Δq; y] = [0; −R]
+        append(t, SpMat(-(PmT * K)), 0, 0);
+        append(t, LmT, 0, n);
+        append(t, BmT, N6, n);
+        append(t, sys_.jacobian(q1), N6 + k, 0);
+        J->resize(N6 + n, N6 + n);
+        NJ->row = N6;
+        NJ->col = 0;
+      } else {
+        // [−K̃  (I−𝒜ₘ)ᵀ  0; (I−𝒜₁)  0  −ℬ₁D; 0  ℬₘᵀ  0] [w; y; Δu] = [0; 0; −R],
+        // K̃ = P_int(q_{n+½})ᵀ K̂ P_int(q_{n+1}).
+        SpMat L1, B1, P1;
+        sys_.tree_factors(q1, L1, B1, P1);
+        append(t, SpMat(-(PmT * (K * P1))), 0, 0);
+        append(t, LmT, 0, N6);
+        append(t, L1, N6, 0);
+        append(t, SpMat(-(B1 * sys_.rotation_vector_tangent(x))), N6, 2 * N6);
+        append(t, BmT, 2 * N6, N6);
+        J->resize(2 * N6 + k, 2 * N6 + k);
+        NJ->row = 2 * N6;
+        NJ->col = 2 * N6;
+      }
       J->setFromTriplets(t.begin(), t.end());
     }
     return R;
@@ -154,9 +213,9 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, SpM
 
 VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) const {
   const StepContext c = context(s);
-  SpMat Js;
-  const VecX R = evaluate(c, x, J ? &Js : nullptr);
-  if (J) *J = MatX(Js);
+  NewtonMatrix Js;
+  const VecX R = evaluate(c, x, J ? &Js : nullptr, false);
+  if (J) *J = MatX(Js.A);
   return R;
 }
 
@@ -168,10 +227,10 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
                                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
   VecX x = start_unknowns(s);
   StepStats st;
-  SpMat J;
+  NewtonMatrix J;
   bool converged = false;
   for (int it = 0; it <= settings_.max_iterations; ++it) {
-    const VecX R = evaluate(c, x, &J);
+    const VecX R = evaluate(c, x, &J, bordered_);
     st.residual = R.lpNorm<Eigen::Infinity>();
     st.iterations = it;
     if (!std::isfinite(st.residual)) break;
@@ -182,7 +241,7 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
     if (it == settings_.max_iterations) break;
     VecX dx;
     try {
-      dx = solve::solve(J, -R);
+      dx = correction(J, R);
     } catch (const std::exception& e) {
       throw NewtonFailure(
           fmt::format("step {} (t = {:.6g}): {} at Newton iteration {}, residual {:.3e}",
@@ -193,7 +252,7 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
     if (dx.lpNorm<Eigen::Infinity>() <=
         settings_.increment_tolerance * std::max(1.0, x.lpNorm<Eigen::Infinity>())) {
       st.iterations = it + 1;
-      st.residual = evaluate(c, x, nullptr).lpNorm<Eigen::Infinity>();
+      st.residual = evaluate(c, x, nullptr, bordered_).lpNorm<Eigen::Infinity>();
       converged = std::isfinite(st.residual);
       break;
     }

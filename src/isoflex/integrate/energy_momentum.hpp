@@ -39,9 +39,17 @@ struct StepStats {
   double residual = 0.0;  // ‖R‖∞ at the last evaluation
 };
 
+// How the reduced Newton systems (null space, reparametrized) are solved: by forming 𝖯 and the
+// reduced matrix (dense-ish for chains: O(N²) entries), or in the equivalent sparse bordered form
+// with the tree factors (I − 𝒜) t = ℬ ν, which grows linearly with N (docs/theory/schemes.md).
+// Automatic: bordered for trees without loop-closing rows and k ≥ 48.
+enum class ReducedSolve { automatic, explicit_null_space, bordered };
+
 class EnergyMomentumIntegrator {
  public:
-  EnergyMomentumIntegrator(const system::System& sys, const model::Solver& settings);
+  EnergyMomentumIntegrator(const system::System& sys, const model::Solver& settings,
+                           ReducedSolve how = ReducedSolve::automatic);
+  bool bordered() const { return bordered_; }
 
   model::Formulation formulation() const { return settings_.formulation; }
   // Size of the linear system solved per Newton iteration.
@@ -61,11 +69,19 @@ class EnergyMomentumIntegrator {
  private:
   struct StepContext;
   StepContext context(const State& s) const;
-  VecX evaluate(const StepContext& c, const VecX& x, system::SpMat* J) const;
+  // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
+  // b = −R placed at rows [row, row + R.size()).
+  struct NewtonMatrix {
+    system::SpMat A;
+    int row = 0, col = 0;
+  };
+  VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  VecX correction(const NewtonMatrix& J, const VecX& R) const;
   VecX configuration(const StepContext& c, const VecX& x) const;
 
   const system::System& sys_;
   model::Solver settings_;
+  bool bordered_ = false;
 };
 
 }  // namespace isoflex::integrate

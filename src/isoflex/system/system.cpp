@@ -480,7 +480,7 @@ VecX System::update(const VecX& qn, const VecX& u) const {
   return q;
 }
 
-SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
+SpMat System::rotation_vector_tangent(const VecX& u) const {
   Triplets t;
   std::vector<bool> done(k_, false);
   auto rot = [&](int o) {
@@ -496,7 +496,51 @@ SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
     if (!done[i]) t.emplace_back(i, i, 1.0);
   SpMat D(k_, k_);
   D.setFromTriplets(t.begin(), t.end());
-  return tree_null_space(update(qn, u)) * D;
+  return D;
+}
+
+SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
+  return tree_null_space(update(qn, u)) * rotation_vector_tangent(u);
+}
+
+void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const {
+  const int N = node_count();
+  Triplets tl, tb, tp;
+  for (int i = 0; i < N; ++i) {
+    add_block(tl, 6 * i, 6 * i, Mat<6, 6>::Identity());
+    add_block(tp, 12 * i, 6 * i, fn::null_space(q.segment<12>(12 * i)));
+  }
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    add_block(tb, 6 * roots_[r], root_nu_offset_[r], Mat<6, 6>::Identity());
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    if (J.parent >= 0) add_block(tl, 6 * J.child, 6 * J.parent, -J.joint.parent_block(qa, qb));
+    if (J.joint.freedom_count() > 0) add_block(tb, 6 * J.child, J.nu_offset, J.joint.freedom_block(qa, qb));
+  }
+  L.resize(6 * N, 6 * N);
+  L.setFromTriplets(tl.begin(), tl.end());
+  B.resize(6 * N, k_);
+  B.setFromTriplets(tb.begin(), tb.end());
+  Pint.resize(n(), 6 * N);
+  Pint.setFromTriplets(tp.begin(), tp.end());
+}
+
+VecX System::reduce(const VecX& q, const VecX& r) const {
+  const int N = node_count();
+  VecX y(6 * N);
+  for (int i = 0; i < N; ++i) y.segment<6>(6 * i) = fn::null_space(q.segment<12>(12 * i)).transpose() * r.segment<12>(12 * i);
+  VecX out = VecX::Zero(k_);
+  for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
+    const auto& J = joints_[*it];
+    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    const Vec<6> yc = y.segment<6>(6 * J.child);
+    if (J.parent >= 0) y.segment<6>(6 * J.parent) += J.joint.parent_block(qa, qb).transpose() * yc;
+    if (J.joint.freedom_count() > 0)
+      out.segment(J.nu_offset, J.joint.freedom_count()) = J.joint.freedom_block(qa, qb).transpose() * yc;
+  }
+  for (std::size_t r = 0; r < roots_.size(); ++r) out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * roots_[r]);
+  return out;
 }
 
 Vec3 System::linear_momentum(const VecX& v) const {

@@ -101,6 +101,16 @@ class System {
   // ∂F/∂u = P_tree(q_{n+1}) D(u), D = I except T(θ) blocks on rotation vectors.
   SpMat update_derivative(const VecX& qn, const VecX& u) const;
 
+  // Factors of the tree null space without forming it: (I − 𝒜(q)) t = ℬ(q) ν, so
+  // P_tree = P_int (I − 𝒜)⁻¹ ℬ. `L` = I − 𝒜 (6N × 6N), `B` = ℬ (6N × k), `Pint` (n × 6N).
+  // With them the reduced Newton systems are solved in an equivalent sparse bordered form whose
+  // size grows linearly with the number of bodies (integrate/energy_momentum.cpp).
+  void tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const;
+  // 𝖯ᵀ r = ℬᵀ (I − 𝒜)⁻ᵀ P_intᵀ r by one sweep from the leaves to the roots.
+  VecX reduce(const VecX& q, const VecX& r) const;
+  // D(u) of update_derivative (k × k).
+  SpMat rotation_vector_tangent(const VecX& u) const;
+
   // Momentum maps: p = Σ (M v)_φ, L = Σ_blocks q_k × (M v)_k (docs/theory).
   Vec3 linear_momentum(const VecX& v) const;
   Vec3 angular_momentum(const VecX& q, const VecX& v) const;
