@@ -23,8 +23,8 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
-  bordered_ = possible && (how == ReducedSolve::bordered ||
-                           (how == ReducedSolve::automatic && sys.k() >= 48));
+  bordered_ = possible &&
+              (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && sys.k() >= 48));
 }
 
 int EnergyMomentumIntegrator::unknowns() const {
@@ -40,7 +40,10 @@ int EnergyMomentumIntegrator::unknowns() const {
 }
 
 State EnergyMomentumIntegrator::initial_state() const {
-  return {0, 0.0, sys_.q0(), sys_.v0()};
+  State s;
+  s.q = sys_.q0();
+  s.v = sys_.v0();
+  return s;
 }
 
 EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const State& s) const {
@@ -53,16 +56,18 @@ EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const St
 }
 
 VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
+  const bool have = s.last_unknowns.size() == unknowns();
   switch (settings_.formulation) {
     case F::constrained: {
-      VecX x = VecX::Zero(unknowns());
-      x.head(sys_.n()) = s.q;
+      VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
+      // last_unknowns holds (q_n − q_{n−1}, λ_n) for this formulation.
+      x.head(sys_.n()) = s.q + (have ? VecX(s.last_unknowns.head(sys_.n())) : VecX::Zero(sys_.n()));
       return x;
     }
     case F::nullspace:
-      return s.q;
+      return have ? VecX(s.q + s.last_unknowns) : s.q;
     case F::reparametrized:
-      return VecX::Zero(sys_.k());
+      return have ? s.last_unknowns : VecX::Zero(sys_.k());
   }
   return {};
 }
@@ -225,6 +230,7 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
   // the round-off level of the equations.
   const double ref = std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
                                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
+  const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
   VecX x = start_unknowns(s);
   StepStats st;
   NewtonMatrix J;
@@ -248,9 +254,14 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
                       s.step + 1, s.t + c.dt, e.what(), it + 1, st.residual));
     }
     x += dx;
-    // A correction at round-off level leaves an error of its square: done.
-    if (dx.lpNorm<Eigen::Infinity>() <=
-        settings_.increment_tolerance * std::max(1.0, x.lpNorm<Eigen::Infinity>())) {
+    // A correction at round-off level leaves an error of its square: done. The increment is
+    // measured in configuration units for every formulation (positions; u moves material points
+    // by about |u| times the size of the system), relative to max(1, ‖qₙ‖∞).
+    const double dq = settings_.formulation == F::constrained
+                          ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
+                          : dx.lpNorm<Eigen::Infinity>() *
+                                (settings_.formulation == F::reparametrized ? qscale : 1.0);
+    if (dq <= settings_.increment_tolerance * qscale) {
       st.iterations = it + 1;
       st.residual = evaluate(c, x, nullptr, bordered_).lpNorm<Eigen::Infinity>();
       converged = std::isfinite(st.residual);
@@ -264,6 +275,8 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
         s.step + 1, s.t + c.dt, st.iterations, st.residual, settings_.residual_tolerance, ref));
   }
   const VecX q1 = configuration(c, x);
+  s.last_unknowns = x;
+  if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
   s.q = q1;
   s.t += c.dt;

@@ -32,6 +32,9 @@ struct State {
   int step = 0;
   double t = 0.0;
   VecX q, v;
+  // Converged unknowns of the last step (empty at the start): the Newton predictor extrapolates
+  // with them (q_{n+1} ≈ qₙ + (qₙ − qₙ₋₁), u ≈ uₙ, λ ≈ λₙ).
+  VecX last_unknowns;
 };
 
 struct StepStats {
@@ -59,7 +62,8 @@ class EnergyMomentumIntegrator {
   StepStats step(State& s) const;
 
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
-  // condition numbers). start_unknowns(s) is the Newton start value (q_{n+1} = q_n).
+  // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the
+  // first step, the extrapolation of the last step after that.
   VecX start_unknowns(const State& s) const;
   VecX residual(const State& s, const VecX& x, MatX* J) const;
 
