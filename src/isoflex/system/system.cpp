@@ -315,18 +315,44 @@ System System::compile(const model::Model& model) {
   }
   VecX nu0 = VecX::Zero(s.k_);
   if (t_given.norm() > 0) {
-    const MatX E = MatX(s.twist_map(s.q0_));
     if (s.cut_rows_.empty()) {
-      nu0 = solve::least_squares(E, t_given);
+      // min ½‖w − t‖² subject to (I − 𝒜) w = ℬ ν, as the sparse KKT system
+      // [I (I−𝒜)ᵀ 0; (I−𝒜) 0 −ℬ; 0 −ℬᵀ 0] [w; μ; ν] = [t; 0; 0] (linear in N).
+      SpMat L, B, Pint;
+      s.tree_factors(s.q0_, L, B, Pint);
+      const int N6 = 6 * N;
+      Triplets t;
+      for (int i = 0; i < N6; ++i) t.emplace_back(i, i, 1.0);
+      auto put = [&](const SpMat& A, int r0, int c0, double f) {
+        for (int c = 0; c < A.outerSize(); ++c)
+          for (SpMat::InnerIterator it(A, c); it; ++it)
+            t.emplace_back(r0 + it.row(), c0 + it.col(), f * it.value());
+      };
+      put(SpMat(L.transpose()), 0, N6, 1.0);
+      put(L, N6, 0, 1.0);
+      put(B, N6, 2 * N6, -1.0);
+      put(SpMat(B.transpose()), 2 * N6, N6, -1.0);
+      SpMat K(2 * N6 + s.k_, 2 * N6 + s.k_);
+      K.setFromTriplets(t.begin(), t.end());
+      VecX rhs = VecX::Zero(K.rows());
+      rhs.head(N6) = t_given;
+      const VecX z = solve::solve(K, rhs);
+      nu0 = z.tail(s.k_);
+      s.v0_error_ = (z.head(N6) - t_given).norm() / std::max(1.0, t_given.norm());
     } else {
+      const MatX E = MatX(s.twist_map(s.q0_));
       MatX W, U;
       solve::qr_range_and_null_space(
           MatX(s.jacobian_rows(s.q0_, s.cut_rows_) * s.tree_null_space(s.q0_)), W, U);
       nu0 = U * solve::least_squares(E * U, t_given);
+      s.v0_error_ = (E * nu0 - t_given).norm() / std::max(1.0, t_given.norm());
     }
-    s.v0_error_ = (E * nu0 - t_given).norm() / std::max(1.0, t_given.norm());
   }
-  s.v0_ = s.tree_null_space(s.q0_) * nu0;
+  {
+    SpMat L, B, Pint;
+    s.tree_factors(s.q0_, L, B, Pint);
+    s.v0_ = Pint * solve::solve(L, B * nu0);
+  }
   return s;
 }
 
@@ -516,7 +542,8 @@ void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const 
     const auto& J = joints_[j];
     const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
     if (J.parent >= 0) add_block(tl, 6 * J.child, 6 * J.parent, -J.joint.parent_block(qa, qb));
-    if (J.joint.freedom_count() > 0) add_block(tb, 6 * J.child, J.nu_offset, J.joint.freedom_block(qa, qb));
+    if (J.joint.freedom_count() > 0)
+      add_block(tb, 6 * J.child, J.nu_offset, J.joint.freedom_block(qa, qb));
   }
   L.resize(6 * N, 6 * N);
   L.setFromTriplets(tl.begin(), tl.end());
@@ -529,7 +556,8 @@ void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const 
 VecX System::reduce(const VecX& q, const VecX& r) const {
   const int N = node_count();
   VecX y(6 * N);
-  for (int i = 0; i < N; ++i) y.segment<6>(6 * i) = fn::null_space(q.segment<12>(12 * i)).transpose() * r.segment<12>(12 * i);
+  for (int i = 0; i < N; ++i)
+    y.segment<6>(6 * i) = fn::null_space(q.segment<12>(12 * i)).transpose() * r.segment<12>(12 * i);
   VecX out = VecX::Zero(k_);
   for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
     const auto& J = joints_[*it];
@@ -537,9 +565,11 @@ VecX System::reduce(const VecX& q, const VecX& r) const {
     const Vec<6> yc = y.segment<6>(6 * J.child);
     if (J.parent >= 0) y.segment<6>(6 * J.parent) += J.joint.parent_block(qa, qb).transpose() * yc;
     if (J.joint.freedom_count() > 0)
-      out.segment(J.nu_offset, J.joint.freedom_count()) = J.joint.freedom_block(qa, qb).transpose() * yc;
+      out.segment(J.nu_offset, J.joint.freedom_count()) =
+          J.joint.freedom_block(qa, qb).transpose() * yc;
   }
-  for (std::size_t r = 0; r < roots_.size(); ++r) out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * roots_[r]);
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * roots_[r]);
   return out;
 }
 
