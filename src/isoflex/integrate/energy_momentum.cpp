@@ -60,12 +60,13 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
   switch (settings_.formulation) {
     case F::constrained: {
       VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
-      // last_unknowns holds (q_n − q_{n−1}, λ_n) for this formulation.
-      x.head(sys_.n()) = s.q + (have ? VecX(s.last_unknowns.head(sys_.n())) : VecX::Zero(sys_.n()));
+      // q_{n+1} ≈ qₙ + Δt vₙ, λ ≈ λₙ (extrapolating the last increment diverged on a whipping
+      // chain).
+      x.head(sys_.n()) = s.q + (have ? VecX(settings_.dt * s.v) : VecX::Zero(sys_.n()));
       return x;
     }
     case F::nullspace:
-      return have ? VecX(s.q + s.last_unknowns) : s.q;
+      return have ? VecX(s.q + settings_.dt * s.v) : s.q;
     case F::reparametrized:
       return have ? s.last_unknowns : VecX::Zero(sys_.k());
   }

@@ -33,7 +33,7 @@ struct State {
   double t = 0.0;
   VecX q, v;
   // Converged unknowns of the last step (empty at the start): the Newton predictor extrapolates
-  // with them (q_{n+1} ≈ qₙ + (qₙ − qₙ₋₁), u ≈ uₙ, λ ≈ λₙ).
+  // with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ, λ ≈ λₙ).
   VecX last_unknowns;
 };
 
