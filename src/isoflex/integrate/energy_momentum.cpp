@@ -93,6 +93,13 @@ void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
 }
 }  // namespace
 
+SpMat EnergyMomentumIntegrator::reduced_stiffness(const SpMat& Gm, const VecX& r0, const SpMat& Kf,
+                                                  double dt) const {
+  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares) stands in for the derivative of 𝖯 (see the header).
+  const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
+  return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+}
+
 VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
   if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return solve::solve(J.A, -R);
   VecX b = VecX::Zero(J.A.rows());
@@ -146,9 +153,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     const VecX phi = sys_.constraints(q1);
     for (int i = 0; i < mc; ++i) R(k + i) = phi(rows[i]);
     if (J) {
-      const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
-      const SpMat K =
-          (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+      const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
       SpMat Lm, Bm, Pm;
       sys_.tree_factors(qm, Lm, Bm, Pm);
       const SpMat PmT = Pm.transpose(), LmT = Lm.transpose(), BmT = Bm.transpose();
@@ -198,10 +203,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   const VecX phi = sys_.constraints(q1);
   for (int i = 0; i < mc; ++i) R(kred + i) = phi(con_rows[i]);
   if (J) {
-    // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares), see the header.
-    const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
-    const SpMat K =
-        (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+    const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
     SpMat dq;  // ∂q_{n+1}/∂x
     if (settings_.formulation == F::nullspace) {
       dq.resize(n, n);

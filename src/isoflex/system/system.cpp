@@ -62,6 +62,14 @@ void add_block(Triplets& t, int r0, int c0, const MatX& B) {
       if (B(i, j) != 0.0) t.emplace_back(r0 + i, c0 + j, B(i, j));
 }
 
+// Body coordinates of a material point given globally at t = 0 or in body coordinates
+// (default: the centre of mass).
+Vec3 body_coordinates(const fn::Q& q0, const std::optional<Vec3>& global,
+                      const std::optional<Vec3>& local) {
+  if (global) return fn::directors(q0).transpose() * (*global - fn::phi(q0));
+  return local ? *local : Vec3::Zero();
+}
+
 }  // namespace
 
 const fn::Q System::node_q(const VecX& q, int node) const {
@@ -117,9 +125,7 @@ System System::compile(const model::Model& model) {
     const int node = find_body(L.body, L.source, what + ".body");
     if (node < 0) fail(L.source, what + ".body", "a load cannot act on the ground");
     const fn::Q q = s.node_q(s.q0_, node);
-    Vec3 X = Vec3::Zero();
-    if (L.point_local) X = *L.point_local;
-    if (L.point) X = fn::directors(q).transpose() * (*L.point - fn::phi(q));
+    const Vec3 X = body_coordinates(q, L.point, L.point_local);
     auto compile3 = [&](const std::optional<std::array<std::string, 3>>& e, const char* key) {
       std::optional<std::array<loads::TimeFunction, 3>> f;
       if (!e) return f;
@@ -141,9 +147,7 @@ System System::compile(const model::Model& model) {
     const int node = find_body(P.body, P.source, fmt::format("probes[{}].body", p));
     if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
     const fn::Q q = s.node_q(s.q0_, node);
-    Vec3 X = Vec3::Zero();
-    if (P.point_local) X = *P.point_local;
-    if (P.point) X = fn::directors(q).transpose() * (*P.point - fn::phi(q));
+    const Vec3 X = body_coordinates(q, P.point, P.point_local);
     s.probes_.push_back({P.name, node, X});
   }
 
