@@ -3,7 +3,7 @@
 //
 //   chain_bench [--n 10,100] [--steps 1000] [--formulations constrained,nullspace,reparametrized]
 //               [--cond] [--dt 0.01] [--csv FILE] [--max-seconds S]
-//               [--reduced automatic|explicit|bordered] [--repeat R]
+//               [--reduced automatic|explicit|bordered|tree] [--repeat R]
 //
 // Per N and formulation: wall time per step (steady_clock, total over the stepping loop / steps,
 // System::compile and the energy bookkeeping excluded), average Newton iterations per step, the
@@ -53,7 +53,7 @@ struct Options {
                "usage: chain_bench [--n 10,100] [--steps 1000]\n"
                "                   [--formulations constrained,nullspace,reparametrized]\n"
                "                   [--cond] [--dt 0.01] [--csv FILE] [--max-seconds S]\n"
-               "                   [--reduced automatic|explicit|bordered] [--repeat R]\n",
+               "                   [--reduced automatic|explicit|bordered|tree] [--repeat R]\n",
                msg.c_str());
   std::exit(2);
 }
@@ -126,6 +126,8 @@ Options parse(int argc, char** argv) {
         o.reduced = integrate::ReducedSolve::explicit_null_space;
       else if (v == "bordered")
         o.reduced = integrate::ReducedSolve::bordered;
+      else if (v == "tree")
+        o.reduced = integrate::ReducedSolve::tree;
       else
         usage(fmt::format("unknown --reduced '{}'", v));
     } else if (a == "-h" || a == "--help") {
@@ -203,8 +205,15 @@ RunResult run(int N, Formulation f, const Options& o) {
   const auto c0 = Clock::now();
   const system::System sys = system::System::compile(m);
   r.compile_s = seconds(Clock::now() - c0);
-  const integrate::EnergyMomentumIntegrator integ(sys, m.solver, o.reduced);
-  r.solve = f == Formulation::constrained ? "full" : integ.bordered() ? "bordered" : "explicit";
+  // The tree recursion exists for the reparametrized formulation only.
+  const auto how = o.reduced == integrate::ReducedSolve::tree && f != Formulation::reparametrized
+                       ? integrate::ReducedSolve::automatic
+                       : o.reduced;
+  const integrate::EnergyMomentumIntegrator integ(sys, m.solver, how);
+  r.solve = f == Formulation::constrained ? "full"
+            : integ.tree_recursion()      ? "tree"
+            : integ.bordered()            ? "bordered"
+                                          : "explicit";
   r.n = sys.n();
   r.m_selected = sys.m_selected();
   r.k = sys.k();

@@ -23,7 +23,16 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
-  bordered_ = possible &&
+  if (settings.formulation == F::reparametrized &&
+      (how == ReducedSolve::tree || how == ReducedSolve::automatic)) {
+    system::TreeNewtonSolver t(sys);
+    if (t.applicable()) tree_.emplace(std::move(t));
+  }
+  if (how == ReducedSolve::tree && !tree_)
+    throw std::invalid_argument(
+        "the tree recursion needs the reparametrized formulation on a tree whose elements couple "
+        "only tree neighbours");
+  bordered_ = !tree_ && possible &&
               (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && sys.k() >= 48));
 }
 
@@ -101,6 +110,11 @@ SpMat EnergyMomentumIntegrator::reduced_stiffness(const SpMat& Gm, const VecX& r
 }
 
 VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
+  if (J.tree) {
+    auto du = tree_->solve(J.qm, J.q1, J.u, J.A, -R);
+    if (!du) throw std::logic_error("Newton matrix couples nodes that are not tree neighbours");
+    return *du;
+  }
   if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return solve::solve(J.A, -R);
   VecX b = VecX::Zero(J.A.rows());
   b.segment(J.row, R.size()) = -R;
@@ -138,6 +152,19 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
       append(t, sys_.jacobian(q1), n, 0);
       J->resize(n + m, n + m);
       J->setFromTriplets(t.begin(), t.end());
+    }
+    return R;
+  }
+
+  if (tree_ && bordered) {
+    // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
+    const VecX R = sys_.reduce(qm, r0);
+    if (NJ) {
+      NJ->A = reduced_stiffness(Gm, r0, Kf, dt);
+      NJ->tree = true;
+      NJ->qm = qm;
+      NJ->q1 = q1;
+      NJ->u = x;
     }
     return R;
   }
@@ -239,7 +266,7 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
   NewtonMatrix J;
   bool converged = false;
   for (int it = 0; it <= settings_.max_iterations; ++it) {
-    const VecX R = evaluate(c, x, &J, bordered_);
+    const VecX R = evaluate(c, x, &J, bordered_ || tree_.has_value());
     st.residual = R.lpNorm<Eigen::Infinity>();
     st.iterations = it;
     if (!std::isfinite(st.residual)) break;
@@ -266,7 +293,8 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
                                 (settings_.formulation == F::reparametrized ? qscale : 1.0);
     if (dq <= settings_.increment_tolerance * qscale) {
       st.iterations = it + 1;
-      st.residual = evaluate(c, x, nullptr, bordered_).lpNorm<Eigen::Infinity>();
+      st.residual =
+          evaluate(c, x, nullptr, bordered_ || tree_.has_value()).lpNorm<Eigen::Infinity>();
       converged = std::isfinite(st.residual);
       break;
     }

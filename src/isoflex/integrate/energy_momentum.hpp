@@ -15,11 +15,13 @@
 // so the term equals ½ Δt 𝖯ᵀ (Σ λᵢ Hᵢ) δq with the constraint Hessians Hᵢ (constant). λ is
 // estimated in every iteration by least squares from r₀ ≈ −Δt 𝖦ᵀλ; the tangent is then exact at
 // the solution and Newton converges quadratically (tests/integrate).
+#include <optional>
 #include <stdexcept>
 
 #include "isoflex/integrate/snapshot.hpp"
 #include "isoflex/model/model.hpp"
 #include "isoflex/system/system.hpp"
+#include "isoflex/system/tree_newton_solver.hpp"
 
 namespace isoflex::integrate {
 
@@ -45,14 +47,18 @@ struct StepStats {
 // How the reduced Newton systems (null space, reparametrized) are solved: by forming 𝖯 and the
 // reduced matrix (dense-ish for chains: O(N²) entries), or in the equivalent sparse bordered form
 // with the tree factors (I − 𝒜) t = ℬ ν, which grows linearly with N (docs/theory/schemes.md).
-// Automatic: bordered for trees without loop-closing rows and k ≥ 48.
-enum class ReducedSolve { automatic, explicit_null_space, bordered };
+// The reparametrized system on a tree whose elements couple only tree neighbours is solved by an
+// O(N) recursion over the tree instead (system/tree_newton_solver.hpp).
+// Automatic: the tree recursion where it applies (reparametrized), else bordered for trees
+// without loop-closing rows and k ≥ 48, else explicit.
+enum class ReducedSolve { automatic, explicit_null_space, bordered, tree };
 
 class EnergyMomentumIntegrator {
  public:
   EnergyMomentumIntegrator(const system::System& sys, const model::Solver& settings,
                            ReducedSolve how = ReducedSolve::automatic);
   bool bordered() const { return bordered_; }
+  bool tree_recursion() const { return tree_.has_value(); }
 
   model::Formulation formulation() const { return settings_.formulation; }
   // Size of the linear system solved per Newton iteration.
@@ -75,9 +81,12 @@ class EnergyMomentumIntegrator {
   StepContext context(const State& s) const;
   // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
   // b = −R placed at rows [row, row + R.size()).
+  // On the tree path only K̂ and the configurations are kept; the solve is the recursion.
   struct NewtonMatrix {
     system::SpMat A;
     int row = 0, col = 0;
+    bool tree = false;
+    VecX qm, q1, u;
   };
   VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
   VecX correction(const NewtonMatrix& J, const VecX& R) const;
@@ -89,6 +98,7 @@ class EnergyMomentumIntegrator {
   const system::System& sys_;
   model::Solver settings_;
   bool bordered_ = false;
+  std::optional<system::TreeNewtonSolver> tree_;
 };
 
 }  // namespace isoflex::integrate

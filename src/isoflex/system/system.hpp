@@ -66,6 +66,11 @@ class System {
   const std::vector<int>& redundant_rows() const { return redundant_rows_; }
   const std::vector<JointInstance>& joints() const { return joints_; }
   const std::vector<int>& roots() const { return roots_; }
+  const std::vector<std::unique_ptr<elements::Element>>& elements() const { return elements_; }
+  const std::vector<int>& root_nu_offsets() const { return root_nu_offset_; }
+  const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
+  // Coordinates of a node (−1: the ground frame).
+  const frame_node::Q node_q(const VecX& q, int node) const;
   // Which joint (index) or −1 (internal) a row belongs to.
   int joint_of_row(int row) const;
   // Independent cut rows found by pivoted QR (must agree in count with the LU selection).
@@ -135,8 +140,6 @@ class System {
   VecX q0_, v0_;
   SpMat M_;
   frame_node::Q ground_;
-
-  const frame_node::Q node_q(const VecX& q, int node) const;
 };
 
 }  // namespace isoflex::system
