@@ -284,10 +284,10 @@ TEST(ModelReader, MissingRequiredKey) {
             "m.yaml:7: joints[0].body_b: missing required key");
   EXPECT_EQ(error_of(with_bodies(
                 {"joints:", "  - type: revolute", "    body_b: top", "    point: [0, 0, 0]"})),
-            "m.yaml:7: joints[0].axis: missing required key for a revolute joint");
+            "m.yaml:7: joints[0].axis: missing required key for a revolute joint (or give axis_a)");
   EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top"})),
             "m.yaml:7: joints[0].point: missing required key for a spherical joint (or give "
-            "point_b)");
+            "point_a or point_b)");
   EXPECT_EQ(error_of(with_bodies({"loads:", "  - body: top", "    point: [0, 0, 0]"})),
             "m.yaml:7: loads[0]: at least one of force and moment is required");
 }
@@ -410,6 +410,21 @@ TEST(ModelReader, JointGeometryRules) {
   EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top",
                                   "    point: [0, 0, 0]", "    point_b: [0, 0, 0]"})),
             "m.yaml:10: joints[0].point_b: give either point or point_b, not both");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: revolute", "    body_b: top",
+                                  "    point_a: [0, 0, 0]", "    point_b: [0, 0, 0]",
+                                  "    axis: [0, 0, 1]"})),
+            "m.yaml:10: joints[0].point_b: give either point_a or point_b, not both");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: revolute", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 1]",
+                                  "    axis_a: [0, 0, 1]"})),
+            "m.yaml:11: joints[0].axis_a: give either axis or axis_a, not both");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis_a: [0, 0, 1]"})),
+            "m.yaml:10: joints[0].axis_a: not allowed for a spherical joint");
+  EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: universal", "    body_b: top",
+                                  "    point: [0, 0, 0]", "    axis: [0, 0, 1]",
+                                  "    axis2_b: [0, 0, 0]"})),
+            "m.yaml:11: joints[0].axis2_b: must be a nonzero vector");
   const model::Model m =
       read_model_string(with_bodies({"joints:", "  - type: rigid", "    body_b: top"}), "m.yaml");
   EXPECT_FALSE(m.joints[0].point || m.joints[0].point_b);

@@ -370,7 +370,9 @@ class Reader {
 
   Joint read_joint(const YAML::Node& n, const std::string& p, std::size_t index) {
     expect_map(n, p);
-    check_keys(n, p, {"name", "type", "body_a", "body_b", "point", "point_b", "axis", "axis2"});
+    check_keys(n, p,
+               {"name", "type", "body_a", "body_b", "point", "point_a", "point_b", "axis", "axis_a",
+                "axis2", "axis2_b"});
     Joint j;
     j.source = source(n);
 
@@ -396,35 +398,52 @@ class Reader {
     if (j.body_a == j.body_b)
       fail(body_b, join(p, "body_b"), "body_a and body_b are the same body \"" + j.body_b + "\"");
 
-    const YAML::Node point = n["point"];
-    const YAML::Node point_b = n["point_b"];
-    if (point && point_b)
-      fail(point_b, join(p, "point_b"), "give either point or point_b, not both");
-    if (point) j.point = vec3(point, join(p, "point"));
-    if (point_b) j.point_b = vec3(point_b, join(p, "point_b"));
-    if (needs_point(j.type) && !point && !point_b)
+    // At most one of each group of alternatives.
+    auto one_of = [&](std::initializer_list<const char*> keys) {
+      const char* first = nullptr;
+      for (const char* k : keys)
+        if (n[k]) {
+          if (first)
+            fail(n[k], join(p, k), fmt::format("give either {} or {}, not both", first, k));
+          first = k;
+        }
+      return first;
+    };
+    const char* point_key = one_of({"point", "point_a", "point_b"});
+    if (const auto v = n["point"]) j.point = vec3(v, join(p, "point"));
+    if (const auto v = n["point_a"]) j.point_a = vec3(v, join(p, "point_a"));
+    if (const auto v = n["point_b"]) j.point_b = vec3(v, join(p, "point_b"));
+    if (needs_point(j.type) && !point_key)
       fail(n, join(p, "point"),
-           fmt::format("missing required key for a {} joint (or give point_b)", type_name));
+           fmt::format("missing required key for a {} joint (or give point_a or point_b)",
+                       type_name));
 
-    const YAML::Node axis = n["axis"];
+    const char* axis_key = one_of({"axis", "axis_a"});
     if (needs_axis(j.type)) {
-      if (!axis)
-        fail(n, join(p, "axis"), fmt::format("missing required key for a {} joint", type_name));
-      j.axis = direction(axis, join(p, "axis"));
-    } else if (axis) {
-      fail(axis, join(p, "axis"), fmt::format("not allowed for a {} joint", type_name));
+      if (!axis_key)
+        fail(n, join(p, "axis"),
+             fmt::format("missing required key for a {} joint (or give axis_a)", type_name));
+      if (const auto v = n["axis"]) j.axis = direction(v, join(p, "axis"));
+      if (const auto v = n["axis_a"]) j.axis_a = direction(v, join(p, "axis_a"));
+    } else if (axis_key) {
+      fail(n[axis_key], join(p, axis_key), fmt::format("not allowed for a {} joint", type_name));
     }
 
-    const YAML::Node axis2 = n["axis2"];
+    const char* axis2_key = one_of({"axis2", "axis2_b"});
     if (j.type == JointType::universal) {
-      if (!axis2) fail(n, join(p, "axis2"), "missing required key for a universal joint");
-      j.axis2 = direction(axis2, join(p, "axis2"));
-      const double c = j.axis->dot(*j.axis2);
-      if (!(std::abs(c) < kPerpendicularTolerance))
-        fail(axis2, join(p, "axis2"),
-             fmt::format("must be perpendicular to axis (cosine of the angle {})", c));
-    } else if (axis2) {
-      fail(axis2, join(p, "axis2"),
+      if (!axis2_key)
+        fail(n, join(p, "axis2"), "missing required key for a universal joint (or give axis2_b)");
+      if (const auto v = n["axis2"]) j.axis2 = direction(v, join(p, "axis2"));
+      if (const auto v = n["axis2_b"]) j.axis2_b = direction(v, join(p, "axis2_b"));
+      // Axes in body coordinates are checked when the model is compiled (system).
+      if (j.axis && j.axis2) {
+        const double c = j.axis->dot(*j.axis2);
+        if (!(std::abs(c) < kPerpendicularTolerance))
+          fail(n["axis2"], join(p, "axis2"),
+               fmt::format("must be perpendicular to axis (cosine of the angle {})", c));
+      }
+    } else if (axis2_key) {
+      fail(n[axis2_key], join(p, axis2_key),
            fmt::format("not allowed for a {} joint (only universal)", type_name));
     }
     return j;

@@ -65,10 +65,16 @@ struct Joint {
   JointType type = JointType::spherical;
   std::string body_a = "ground";
   std::string body_b;
+  // Joint point: global at t = 0, or in body-a / body-b coordinates (at most one of the three).
   std::optional<Vec3> point;
+  std::optional<Vec3> point_a;
   std::optional<Vec3> point_b;
+  // Axis: global at t = 0 or in body-a coordinates; second axis (universal): global or in body-b
+  // coordinates. Unit vectors.
   std::optional<Vec3> axis;
+  std::optional<Vec3> axis_a;
   std::optional<Vec3> axis2;
+  std::optional<Vec3> axis2_b;
   Source source;
 };
 

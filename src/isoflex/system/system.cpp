@@ -212,14 +212,18 @@ System System::compile(const model::Model& model) {
     const int parent = rev ? edges[j].b : edges[j].a;
     const int child = rev ? edges[j].a : edges[j].b;
     const fn::Q qa0 = s.node_q(s.q0_, parent), qb0 = s.node_q(s.q0_, child);
-    const fn::Q qB = s.node_q(s.q0_, edges[j].b);
-    Vec3 p;
+    // Body a and b of the model entry (not parent/child) at t = 0; the ground frame for ground.
+    const fn::Q qA = s.node_q(s.q0_, edges[j].a), qB = s.node_q(s.q0_, edges[j].b);
+    const Mat3 RA = fn::directors(qA), RB = fn::directors(qB);
+    Vec3 p = fn::phi(qB);
     if (J.point)
       p = *J.point;
+    else if (J.point_a)
+      p = fn::phi(qA) + RA * *J.point_a;
     else if (J.point_b)
-      p = fn::phi(qB) + fn::directors(qB) * *J.point_b;
-    else
-      p = fn::phi(qB);
+      p = fn::phi(qB) + RB * *J.point_b;
+    const std::optional<Vec3> axis = J.axis_a ? std::optional<Vec3>(RA * *J.axis_a) : J.axis;
+    const std::optional<Vec3> axis2 = J.axis2_b ? std::optional<Vec3>(RB * *J.axis2_b) : J.axis2;
     Mat3 E = Mat3::Identity();
     using T = model::JointType;
     switch (J.type) {
@@ -228,15 +232,17 @@ System System::compile(const model::Model& model) {
       case T::cylindrical:
       case T::planar:
       case T::point_on_line:
-        if (!J.axis || !(J.axis->norm() > 0))
+        if (!axis || !(axis->norm() > 0))
           fail(J.source, what + ".axis", "a nonzero axis is required");
-        E = frame_about(*J.axis);
+        E = frame_about(*axis);
         break;
       case T::universal: {
-        if (!J.axis || !J.axis2) fail(J.source, what, "a universal joint needs axis and axis2");
-        Vec3 e1 = J.axis->normalized(), e2 = J.axis2->normalized();
+        if (!axis || !axis2) fail(J.source, what, "a universal joint needs axis and axis2");
+        Vec3 e1 = axis->normalized(), e2 = axis2->normalized();
         if (std::abs(e1.dot(e2)) > 1e-9)
-          fail(J.source, what + ".axis2", "axis2 must be perpendicular to axis");
+          fail(J.source, what + ".axis2",
+               fmt::format("axis2 must be perpendicular to axis at t = 0 (cosine {:.3g})",
+                           e1.dot(e2)));
         if (rev) std::swap(e1, e2);  // the parent's own axis is the first frame axis
         E << e1, e2, e1.cross(e2);
         break;
