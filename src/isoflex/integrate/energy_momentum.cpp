@@ -134,10 +134,24 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   SpMat Kf;
   const VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
-  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
   const int m = sys_.m_selected();
   system::Triplets t;
 
+  if (tree_ && bordered) {
+    // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
+    const VecX R = sys_.reduce(qm, r0);
+    if (NJ) {
+      const VecX lambda = tree_->multipliers(qm, r0, dt);
+      NJ->A = (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+      NJ->tree = true;
+      NJ->qm = qm;
+      NJ->q1 = q1;
+      NJ->u = x;
+    }
+    return R;
+  }
+
+  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
   if (settings_.formulation == F::constrained) {
     const VecX lambda = x.tail(m);
     VecX R(n + m);
@@ -152,19 +166,6 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
       append(t, sys_.jacobian(q1), n, 0);
       J->resize(n + m, n + m);
       J->setFromTriplets(t.begin(), t.end());
-    }
-    return R;
-  }
-
-  if (tree_ && bordered) {
-    // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
-    const VecX R = sys_.reduce(qm, r0);
-    if (NJ) {
-      NJ->A = reduced_stiffness(Gm, r0, Kf, dt);
-      NJ->tree = true;
-      NJ->qm = qm;
-      NJ->q1 = q1;
-      NJ->u = x;
     }
     return R;
   }

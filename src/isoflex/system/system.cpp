@@ -56,7 +56,9 @@ Mat3 frame_about(const Vec3& e3) {
   return E;
 }
 
-void add_block(Triplets& t, int r0, int c0, const MatX& B) {
+// Templated so that fixed-size blocks are not copied into a heap-allocated MatX.
+template <class Derived>
+void add_block(Triplets& t, int r0, int c0, const Eigen::MatrixBase<Derived>& B) {
   for (int j = 0; j < B.cols(); ++j)
     for (int i = 0; i < B.rows(); ++i)
       if (B(i, j) != 0.0) t.emplace_back(r0 + i, c0 + j, B(i, j));

@@ -1,6 +1,8 @@
 #include "isoflex/system/tree_newton_solver.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <cassert>
 #include <stdexcept>
 
 #include "isoflex/math/frame_node.hpp"
@@ -41,12 +43,49 @@ bool TreeNewtonSolver::applicable() const {
   return true;
 }
 
+VecX TreeNewtonSolver::multipliers(const VecX& q, const VecX& r, double dt) const {
+  // On a tree every row is selected, in row order.
+  assert(sys_.m_selected() == sys_.m_all());
+  const int N = sys_.node_count();
+  VecX lambda = VecX::Zero(sys_.m_all());
+  std::vector<Vec<6>> y(N);
+  std::vector<Mat<12, 6>> P(N);
+  for (int i = 0; i < N; ++i) {
+    P[i] = fn::null_space(q.segment<12>(12 * i));
+    y[i] = P[i].transpose() * r.segment<12>(12 * i);
+  }
+  // Joint forces on the nodes, Σ_j G_jᵀ λ_j, for the internal rows afterwards.
+  VecX joint_force = VecX::Zero(sys_.n());
+  for (auto l = links_.rbegin(); l != links_.rend(); ++l) {
+    if (l->joint < 0) continue;
+    const JointInstance& J = sys_.joints()[l->joint];
+    const int c = l->node, p = l->parent, m = J.joint.constraint_count();
+    const fn::Q qa = sys_.node_q(q, p), qc = sys_.node_q(q, c);
+    const MatX G = J.joint.jacobian(qa, qc);
+    const MatX C = G.rightCols<12>() * P[c];
+    const VecX lj = (C * C.transpose()).ldlt().solve(C * y[c]) * (-1.0 / dt);
+    lambda.segment(J.row_offset, m) = lj;
+    joint_force.segment<12>(12 * c) += G.rightCols<12>().transpose() * lj;
+    if (p >= 0) {
+      joint_force.segment<12>(12 * p) += G.leftCols<12>().transpose() * lj;
+      y[p] += J.joint.parent_block(qa, qc).transpose() * y[c];
+    }
+  }
+  for (int i = 0; i < N; ++i) {
+    const Mat<6, 12> Gi = fn::jacobian(q.segment<12>(12 * i));
+    const Vec<12> rest = r.segment<12>(12 * i) / dt + joint_force.segment<12>(12 * i);
+    lambda.segment<6>(6 * i) = -(Gi * Gi.transpose()).ldlt().solve(Gi * rest);
+  }
+  return lambda;
+}
+
 std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, const VecX& u,
                                             const SpMat& K, const VecX& b) const {
   const int N = sys_.node_count();
   // 12 × 12 blocks of K̂: on the diagonal, and between each node and its parent (both ways).
   std::vector<Mat<12, 12>> Kd(N, Mat<12, 12>::Zero()), Kcp(N, Mat<12, 12>::Zero()),
       Kpc(N, Mat<12, 12>::Zero());
+  std::vector<bool> coupled(N, false);  // K̂ has entries between the node and its parent
   for (int c = 0; c < K.outerSize(); ++c)
     for (SpMat::InnerIterator it(K, c); it; ++it) {
       const int r = static_cast<int>(it.row()), col = static_cast<int>(it.col());
@@ -58,6 +97,7 @@ std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, cons
         Kcp[a](r % 12, col % 12) += it.value();
       else
         Kpc[bn](r % 12, col % 12) += it.value();
+      if (a != bn) coupled[links_[link_of_node_[a]].parent == bn ? a : bn] = true;
     }
 
   std::vector<Mat<12, 6>> Pm(N), P1(N);
@@ -71,7 +111,12 @@ std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, cons
   std::vector<Vec<6>> zhat(N, Vec<6>::Zero()), tau(N);
   std::vector<Blockr6> Gam(N);
   std::vector<Vecr> del(N);
-  for (int i = 0; i < N; ++i) Ahat[i] = Pm[i].transpose() * Kd[i] * P1[i];
+  // Fixed-size 6 × 12 · 12 × 12 · 12 × 6 products (lazy: no temporaries through the GEMM path).
+  auto project = [](const Mat<12, 6>& A, const Mat<12, 12>& K, const Mat<12, 6>& B) {
+    const Mat<12, 6> KB = K.lazyProduct(B);
+    return Mat6(A.transpose().lazyProduct(KB));
+  };
+  for (int i = 0; i < N; ++i) Ahat[i] = project(Pm[i], Kd[i], P1[i]);
 
   for (int l = L - 1; l >= 0; --l) {
     const Link& k = links_[l];
@@ -95,7 +140,7 @@ std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, cons
     if (k.rotvec >= 0)
       E.middleCols<3>(k.rotvec) =
           E.middleCols<3>(k.rotvec) * rodrigues_tangent(u.segment<3>(k.nu_offset + k.rotvec));
-    Chat[g] = p >= 0 ? Mat6(Pm[g].transpose() * Kcp[g] * P1[p]) : Mat6::Zero();
+    Chat[g] = p >= 0 && coupled[g] ? project(Pm[g], Kcp[g], P1[p]) : Mat6::Zero();
 
     const int r = k.freedoms;
     if (r > 0) {
@@ -112,7 +157,7 @@ std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, cons
       tau[g].setZero();
     }
     if (p >= 0) {
-      const Mat6 Kpg = Pm[p].transpose() * Kpc[g] * P1[g];
+      const Mat6 Kpg = coupled[g] ? project(Pm[p], Kpc[g], P1[g]) : Mat6::Zero();
       Ahat[p] += Kpg * T[g] + Am[g].transpose() * (Ahat[g] * T[g] + Chat[g]);
       zhat[p] += Kpg * tau[g] + Am[g].transpose() * (Ahat[g] * tau[g] + zhat[g]);
     }
