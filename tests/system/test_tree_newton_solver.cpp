@@ -86,20 +86,6 @@ TEST(TreeNewtonSolver, SolvesTheReducedSystemOfAnyTree) {
   }
 }
 
-TEST(TreeNewtonSolver, MultipliersOfAConstraintForce) {
-  const auto sys = system::System::compile(mixed_tree());
-  const system::TreeNewtonSolver solver(sys);
-  std::mt19937 g(19);
-  const double dt = 0.01;
-  for (int trial = 0; trial < 3; ++trial) {
-    const VecX q = sys.update(sys.q0(), test::random_vector(g, sys.k(), 0.5));
-    const VecX lambda = test::random_vector(g, sys.m_all());
-    const VecX r = -dt * (system::SpMat(sys.jacobian(q).transpose()) * lambda);
-    const VecX got = solver.multipliers(q, r, dt);
-    EXPECT_LT((got - lambda).norm() / lambda.norm(), 1e-12) << "trial " << trial;
-  }
-}
-
 TEST(TreeNewtonSolver, RefusesCouplingsOutsideTheTree) {
   const auto sys = system::System::compile(mixed_tree());
   const system::TreeNewtonSolver solver(sys);

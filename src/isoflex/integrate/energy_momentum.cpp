@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "isoflex/math/frame_node.hpp"
@@ -22,6 +23,8 @@ struct EnergyMomentumIntegrator::StepContext {
 EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
+  const double mean_mass = sys.mass().diagonal().sum() / std::max(1, sys.n());
+  constraint_scale_ = (2.0 / settings.dt) * (mean_mass > 0.0 ? mean_mass : 1.0);
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
   if (settings.formulation == F::reparametrized &&
       (how == ReducedSolve::tree || how == ReducedSolve::automatic)) {
@@ -105,7 +108,7 @@ void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
 SpMat EnergyMomentumIntegrator::reduced_stiffness(const SpMat& Gm, const VecX& r0, const SpMat& Kf,
                                                   double dt) const {
   // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares) stands in for the derivative of 𝖯 (see the header).
-  const VecX lambda = solve::solve_normal_equations(Gm, -(Gm * r0) / dt);
+  const VecX lambda = normal_equations_.solve(Gm, -(Gm * r0) / dt);
   return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
 }
 
@@ -134,6 +137,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   SpMat Kf;
   const VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
+  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
   const int m = sys_.m_selected();
   system::Triplets t;
 
@@ -141,8 +145,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
     const VecX R = sys_.reduce(qm, r0);
     if (NJ) {
-      const VecX lambda = tree_->multipliers(qm, r0, dt);
-      NJ->A = (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+      NJ->A = reduced_stiffness(Gm, r0, Kf, dt);
       NJ->tree = true;
       NJ->qm = qm;
       NJ->q1 = q1;
@@ -151,7 +154,6 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     return R;
   }
 
-  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
   if (settings_.formulation == F::constrained) {
     const VecX lambda = x.tail(m);
     VecX R(n + m);
@@ -179,7 +181,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     VecX R(k + mc);
     R.head(k) = sys_.reduce(qm, r0);
     const VecX phi = sys_.constraints(q1);
-    for (int i = 0; i < mc; ++i) R(k + i) = phi(rows[i]);
+    for (int i = 0; i < mc; ++i) R(k + i) = constraint_scale_ * phi(rows[i]);
     if (J) {
       const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
       SpMat Lm, Bm, Pm;
@@ -190,7 +192,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
         append(t, SpMat(-(PmT * K)), 0, 0);
         append(t, LmT, 0, n);
         append(t, BmT, N6, n);
-        append(t, sys_.jacobian(q1), N6 + k, 0);
+        append(t, SpMat(constraint_scale_ * sys_.jacobian(q1)), N6 + k, 0);
         J->resize(N6 + n, N6 + n);
         NJ->row = N6;
         NJ->col = 0;
@@ -229,7 +231,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   VecX R(kred + mc);
   R.head(kred) = P.transpose() * r0;
   const VecX phi = sys_.constraints(q1);
-  for (int i = 0; i < mc; ++i) R(kred + i) = phi(con_rows[i]);
+  for (int i = 0; i < mc; ++i) R(kred + i) = constraint_scale_ * phi(con_rows[i]);
   if (J) {
     const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
     SpMat dq;  // ∂q_{n+1}/∂x
@@ -240,7 +242,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
       dq = sys_.update_derivative(s.q, x);
     }
     append(t, SpMat(SpMat(P.transpose()) * (K * dq)), 0, 0);
-    append(t, SpMat(sys_.jacobian_rows(q1, con_rows) * dq), kred, 0);
+    append(t, SpMat(constraint_scale_ * (sys_.jacobian_rows(q1, con_rows) * dq)), kred, 0);
     J->resize(kred + mc, static_cast<int>(dq.cols()));
     J->setFromTriplets(t.begin(), t.end());
   }

@@ -20,6 +20,7 @@
 
 #include "isoflex/integrate/snapshot.hpp"
 #include "isoflex/model/model.hpp"
+#include "isoflex/solve/normal_equations.hpp"
 #include "isoflex/system/system.hpp"
 #include "isoflex/system/tree_newton_solver.hpp"
 
@@ -98,6 +99,13 @@ class EnergyMomentumIntegrator {
   const system::System& sys_;
   model::Solver settings_;
   bool bordered_ = false;
+  // Rows Φ(q_{n+1}) = 0 of the reduced schemes are multiplied by (2/Δt)·(mean diagonal of M), the
+  // scale of the rows 𝖯ᵀ(M(vₙ₊₁ − vₙ) + Δt f): the solution is unchanged and the condition
+  // number of the Newton matrix no longer grows as Δt⁻¹ (docs/theory/schemes.md).
+  double constraint_scale_ = 1.0;
+  // λ̂ of reduced_stiffness: the fill-reducing ordering of 𝖦𝖦ᵀ is kept while its pattern is
+  // unchanged (a cache; an integrator is not shared between threads).
+  mutable solve::NormalEquations normal_equations_;
   std::optional<system::TreeNewtonSolver> tree_;
 };
 

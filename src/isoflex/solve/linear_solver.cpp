@@ -1,7 +1,6 @@
 #include "isoflex/solve/linear_solver.hpp"
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <stdexcept>
@@ -68,13 +67,6 @@ double condition_number(const MatX& A) {
 
 VecX least_squares(const MatX& A, const VecX& b) {
   return A.colPivHouseholderQr().solve(b);
-}
-
-VecX solve_normal_equations(const SpMat& G, const VecX& rhs) {
-  const SpMat GGt = G * SpMat(G.transpose());
-  Eigen::SimplicialLDLT<SpMat> ldlt(GGt);
-  if (ldlt.info() != Eigen::Success) throw std::runtime_error("constraint Jacobian rank deficient");
-  return ldlt.solve(rhs);
 }
 
 }  // namespace isoflex::solve

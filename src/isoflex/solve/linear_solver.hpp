@@ -30,7 +30,5 @@ double condition_number(const MatX& A);
 // Least-squares solution of A x = b (A dense, full column rank).
 VecX least_squares(const MatX& A, const VecX& b);
 
-// Solves (G Gᵀ) λ = rhs for sparse G of full row rank (symmetric positive definite).
-VecX solve_normal_equations(const SpMat& G, const VecX& rhs);
 
 }  // namespace isoflex::solve

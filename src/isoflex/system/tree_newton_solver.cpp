@@ -1,8 +1,6 @@
 #include "isoflex/system/tree_newton_solver.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
-#include <cassert>
 #include <stdexcept>
 
 #include "isoflex/math/frame_node.hpp"
@@ -41,42 +39,6 @@ bool TreeNewtonSolver::applicable() const {
       for (int b : e->nodes())
         if (!neighbours(a, b)) return false;
   return true;
-}
-
-VecX TreeNewtonSolver::multipliers(const VecX& q, const VecX& r, double dt) const {
-  // On a tree every row is selected, in row order.
-  assert(sys_.m_selected() == sys_.m_all());
-  const int N = sys_.node_count();
-  VecX lambda = VecX::Zero(sys_.m_all());
-  std::vector<Vec<6>> y(N);
-  std::vector<Mat<12, 6>> P(N);
-  for (int i = 0; i < N; ++i) {
-    P[i] = fn::null_space(q.segment<12>(12 * i));
-    y[i] = P[i].transpose() * r.segment<12>(12 * i);
-  }
-  // Joint forces on the nodes, Σ_j G_jᵀ λ_j, for the internal rows afterwards.
-  VecX joint_force = VecX::Zero(sys_.n());
-  for (auto l = links_.rbegin(); l != links_.rend(); ++l) {
-    if (l->joint < 0) continue;
-    const JointInstance& J = sys_.joints()[l->joint];
-    const int c = l->node, p = l->parent, m = J.joint.constraint_count();
-    const fn::Q qa = sys_.node_q(q, p), qc = sys_.node_q(q, c);
-    const MatX G = J.joint.jacobian(qa, qc);
-    const MatX C = G.rightCols<12>() * P[c];
-    const VecX lj = (C * C.transpose()).ldlt().solve(C * y[c]) * (-1.0 / dt);
-    lambda.segment(J.row_offset, m) = lj;
-    joint_force.segment<12>(12 * c) += G.rightCols<12>().transpose() * lj;
-    if (p >= 0) {
-      joint_force.segment<12>(12 * p) += G.leftCols<12>().transpose() * lj;
-      y[p] += J.joint.parent_block(qa, qc).transpose() * y[c];
-    }
-  }
-  for (int i = 0; i < N; ++i) {
-    const Mat<6, 12> Gi = fn::jacobian(q.segment<12>(12 * i));
-    const Vec<12> rest = r.segment<12>(12 * i) / dt + joint_force.segment<12>(12 * i);
-    lambda.segment<6>(6 * i) = -(Gi * Gi.transpose()).ldlt().solve(Gi * rest);
-  }
-  return lambda;
 }
 
 std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, const VecX& u,

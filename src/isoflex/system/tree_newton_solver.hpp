@@ -33,13 +33,6 @@ class TreeNewtonSolver {
   std::optional<VecX> solve(const VecX& qm, const VecX& q1, const VecX& u, const SpMat& K,
                             const VecX& b) const;
 
-  // Multipliers λ (all rows = selected rows on a tree) with r + Δt G(q)ᵀλ = 0 whenever r is of
-  // that form, by one sweep from the leaves: the accumulated twist-space force of the subtree of
-  // node c is y_c = −Δt C_cᵀ λ_j, C_c = G_{j,c} P_int,c for the joint j above c (because
-  // C_p = −C_c A_c); then the internal rows node by node. Away from that form it is a local
-  // least-squares estimate (used for the ½Δt Σλᵢ Hᵢ term of the tangent, exact at the solution).
-  VecX multipliers(const VecX& q, const VecX& r, double dt) const;
-
   // True if every element's nodes are equal or tree neighbours and no joint closes a loop, so
   // that K̂ couples only tree neighbours (loads act on single nodes).
   bool applicable() const;
