@@ -1,12 +1,16 @@
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
@@ -279,7 +283,7 @@ TEST(ModelReader, MissingRequiredKey) {
                 {"bodies:", "  - name: top", "    inertia: [1, 1, 1]", "    position: [0, 0, 0]"})),
             "m.yaml:2: bodies[0].mass: missing required key");
   EXPECT_EQ(error_of(lines({"name: x", "gravity: [0, 0, 1]"})),
-            "m.yaml:1: bodies: missing required key");
+            "m.yaml:1: bodies: at least one body or beam is required");
   EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    point: [0, 0, 0]"})),
             "m.yaml:7: joints[0].body_b: missing required key");
   EXPECT_EQ(error_of(with_bodies(
@@ -301,7 +305,7 @@ TEST(ModelReader, UnknownKey) {
             "residual_tolerance, increment_tolerance, max_iterations)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
-            "bodies, joints, loads, probes)");
+            "bodies, beams, joints, loads, distributed_loads, probes)");
   EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, size: [1, 1, 1]}"})),
             "m.yaml:6: bodies[0].shape.size: unknown key (valid keys: type, radius, offset)");
   EXPECT_EQ(error_of(with_bodies({"gravity: [0, 0, 0]", "gravity: [0, 0, 1]"})),
@@ -486,7 +490,12 @@ TEST(ModelReader, DocumentMustBeAMappingWithBodies) {
             "m.yaml:1: a model file must be a YAML mapping with the keys name, "
             "gravity, ...");
   EXPECT_EQ(error_of(lines({"name: x", "bodies: []"})),
-            "m.yaml:2: bodies: expected a non-empty list of bodies");
+            "m.yaml:2: bodies: at least one body or beam is required");
+  EXPECT_EQ(error_of(lines({"name: x", "bodies:", "joints: []"})),
+            "m.yaml:2: bodies: at least one body or beam is required");
+  EXPECT_EQ(error_of(lines({"name: x", "beams: []"})),
+            "m.yaml:2: beams: at least one body or beam is required");
+  EXPECT_EQ(error_of(lines({"name: x", "bodies: 3"})), "m.yaml:2: bodies: expected a list");
 }
 
 // The complete example of docs/model-files.md is a valid model.
@@ -507,4 +516,416 @@ TEST(ModelReader, DocumentationExampleIsValid) {
   EXPECT_EQ(m.joints.size(), 2u);
   EXPECT_EQ(m.loads.size(), 1u);
   EXPECT_EQ(m.probes.size(), 2u);
+}
+
+// ---- beams, beam nodes, distributed loads --------------------------------------------------
+
+namespace {
+
+// A valid beam "crank" with 21 nodes occupying lines 1-6.
+constexpr std::string_view kBeam[] = {
+    "beams:",
+    "  - name: crank",
+    "    points: [[0, -3, 1.5], [0, 3, 1.5]]",
+    "    elements: 20",
+    "    d1: [0, 0, 1]",
+    "    section: {EA: 1e5, GA: 1e5, EI: 1e4, GJ: 1e4, A_rho: 20, M_rho: 10}"};
+
+// kBeam followed by `more` (from line 7).
+std::string with_beam(std::initializer_list<std::string_view> more) {
+  std::string s;
+  for (const auto l : kBeam) s += std::string(l) + '\n';
+  for (const auto l : more) s += std::string(l) + '\n';
+  return s;
+}
+
+// A model with beams only; joints, loads and probes name beam nodes before the beams are defined.
+const std::string kBeamModel = lines({
+    "joints:",                                                                  // 1
+    "  - type: revolute",                                                       // 2
+    "    body_b: crank[0]            # plain scalar",                           // 3
+    "    point: [0, -3, 1.5]",                                                  // 4
+    "    axis: [0, 1, 0]",                                                      // 5
+    "  - type: spherical",                                                      // 6
+    "    body_a: \"crank[20]\"       # quoted",                                 // 7
+    "    body_b: rod[0]",                                                       // 8
+    "    point: [0, 3, 1.5]",                                                   // 9
+    "beams:",                                                                   // 10
+    "  - name: crank",                                                          // 11
+    "    points: [[0, -3, 1.5], [0, 3, 1.5]]",                                  // 12
+    "    elements: 20",                                                         // 13
+    "    d1: [0, 0, 2]",                                                        // 14
+    "    section: {EA: 1e5, GA: 2e5, EI: 1e4, GJ: 3e4, A_rho: 20, M_rho: 10}",  // 15
+    "  - name: rod",                                                            // 16
+    "    points: [[0, 3, 1.5], [1, 3, 1.5], [1, 3, 0]]",                        // 17
+    "    elements: [2, 3]",                                                     // 18
+    "    d1: [1, 1, 0]",                                                        // 19
+    "    section:",                                                             // 20
+    "      EA: 1",                                                              // 21
+    "      GA1: 2",                                                             // 22
+    "      GA2: 3",                                                             // 23
+    "      EI1: 4",                                                             // 24
+    "      EI2: 5",                                                             // 25
+    "      GJ: 6",                                                              // 26
+    "      A_rho: 7",                                                           // 27
+    "      M_rho1: 8",                                                          // 28
+    "      M_rho2: 9",                                                          // 29
+    "loads:",                                                                   // 30
+    "  - body: crank[10]",                                                      // 31
+    "    force: [0, 0, \"-10*t\"]",                                             // 32
+    "distributed_loads:",                                                       // 33
+    "  - beam: crank",                                                          // 34
+    "    force_per_length: [0, 0, \"-9.81*20\"]",                               // 35
+    "  - name: wind",                                                           // 36
+    "    beam: rod",                                                            // 37
+    "    force_per_length: [\"sin(t)\", 1, 0]",                                 // 38
+    "probes:",                                                                  // 39
+    "  - name: tip",                                                            // 40
+    "    body: rod[005]",                                                       // 41
+    "    point_local: [0, 0, 0.1]",                                             // 42
+});
+
+}  // namespace
+
+TEST(ModelReader, ReadsBeamsBeamNodesAndDistributedLoads) {
+  const model::Model m = read_model_string(kBeamModel, "m.yaml");
+  EXPECT_TRUE(m.bodies.empty());  // beams alone make a model
+  ASSERT_EQ(m.beams.size(), 2u);
+
+  const model::Beam& crank = m.beams[0];
+  EXPECT_EQ(crank.name, "crank");
+  ASSERT_EQ(crank.points.size(), 2u);
+  EXPECT_EQ(crank.points[0], Vec3(0, -3, 1.5));
+  EXPECT_EQ(crank.points[1], Vec3(0, 3, 1.5));
+  EXPECT_EQ(crank.elements, std::vector<int>({20}));
+  EXPECT_EQ(crank.node_count(), 21);
+  EXPECT_EQ(crank.d1, Vec3(0, 0, 1));  // normalized
+  EXPECT_EQ(crank.section.EA, 1e5);
+  EXPECT_EQ(crank.section.GA1, 2e5);  // GA sets both
+  EXPECT_EQ(crank.section.GA2, 2e5);
+  EXPECT_EQ(crank.section.EI1, 1e4);
+  EXPECT_EQ(crank.section.EI2, 1e4);
+  EXPECT_EQ(crank.section.GJ, 3e4);
+  EXPECT_EQ(crank.section.A_rho, 20.0);
+  EXPECT_EQ(crank.section.M_rho1, 10.0);
+  EXPECT_EQ(crank.section.M_rho2, 10.0);
+  EXPECT_EQ(crank.source.file, "m.yaml");
+  EXPECT_EQ(crank.source.line, 11);
+
+  const model::Beam& rod = m.beams[1];
+  EXPECT_EQ(rod.name, "rod");
+  ASSERT_EQ(rod.points.size(), 3u);
+  EXPECT_EQ(rod.points[2], Vec3(1, 3, 0));
+  EXPECT_EQ(rod.elements, std::vector<int>({2, 3}));
+  EXPECT_EQ(rod.node_count(), 6);
+  EXPECT_NEAR((rod.d1 - Vec3(1, 1, 0) / std::sqrt(2.0)).norm(), 0.0, 1e-15);
+  EXPECT_EQ(rod.section.EA, 1.0);
+  EXPECT_EQ(rod.section.GA1, 2.0);
+  EXPECT_EQ(rod.section.GA2, 3.0);
+  EXPECT_EQ(rod.section.EI1, 4.0);
+  EXPECT_EQ(rod.section.EI2, 5.0);
+  EXPECT_EQ(rod.section.GJ, 6.0);
+  EXPECT_EQ(rod.section.A_rho, 7.0);
+  EXPECT_EQ(rod.section.M_rho1, 8.0);
+  EXPECT_EQ(rod.section.M_rho2, 9.0);
+  EXPECT_EQ(rod.source.line, 16);
+
+  ASSERT_EQ(m.joints.size(), 2u);
+  EXPECT_EQ(m.joints[0].body_a, "ground");
+  EXPECT_EQ(m.joints[0].body_b, "crank[0]");
+  EXPECT_EQ(m.joints[1].body_a, "crank[20]");
+  EXPECT_EQ(m.joints[1].body_b, "rod[0]");
+  ASSERT_EQ(m.loads.size(), 1u);
+  EXPECT_EQ(m.loads[0].body, "crank[10]");
+  ASSERT_EQ(m.probes.size(), 1u);
+  EXPECT_EQ(m.probes[0].body, "rod[5]");  // canonical form of rod[005]
+
+  ASSERT_EQ(m.distributed_loads.size(), 2u);
+  const model::DistributedLoad& g = m.distributed_loads[0];
+  EXPECT_EQ(g.name, "distributed_load0");
+  EXPECT_EQ(g.beam, "crank");
+  EXPECT_EQ(g.force_per_length, (std::array<std::string, 3>{"0", "0", "-9.81*20"}));
+  EXPECT_EQ(g.source.file, "m.yaml");
+  EXPECT_EQ(g.source.line, 34);
+  const model::DistributedLoad& wind = m.distributed_loads[1];
+  EXPECT_EQ(wind.name, "wind");
+  EXPECT_EQ(wind.beam, "rod");
+  EXPECT_EQ(wind.force_per_length, (std::array<std::string, 3>{"sin(t)", "1", "0"}));
+  EXPECT_EQ(wind.source.line, 36);
+}
+
+TEST(ModelReader, BodiesAndBeamsTogether) {
+  const model::Model m =
+      read_model_string(with_bodies({"joints:", "  - type: spherical", "    body_a: top",
+                                     "    body_b: crank[3]", "    point: [0, 0, 0]", kBeam[0],
+                                     kBeam[1], kBeam[2], kBeam[3], kBeam[4], kBeam[5]}),
+                        "m.yaml");
+  ASSERT_EQ(m.bodies.size(), 1u);
+  ASSERT_EQ(m.beams.size(), 1u);
+  EXPECT_EQ(m.beams[0].source.line, 12);
+  EXPECT_EQ(m.joints[0].body_a, "top");
+  EXPECT_EQ(m.joints[0].body_b, "crank[3]");
+  // `bodies` may be empty or blank when there are beams.
+  EXPECT_NO_THROW(read_model_string(with_beam({"bodies: []"}), "m.yaml"));
+  EXPECT_NO_THROW(read_model_string(with_beam({"bodies:"}), "m.yaml"));
+}
+
+// yaml-cpp reads an unquoted crank[10] as a plain scalar in block context; inside a flow mapping
+// or list the brackets are flow indicators, so the reference must be quoted there.
+TEST(ModelReader, BeamNodeReferencesInFlowContextNeedQuotes) {
+  const model::Model m =
+      read_model_string(with_beam({"loads: [{body: \"crank[1]\", force: [1, 0, 0]}]"}), "m.yaml");
+  EXPECT_EQ(m.loads[0].body, "crank[1]");
+  const std::string what = error_of(with_beam({"loads: [{body: crank[1], force: [1, 0, 0]}]"}));
+  EXPECT_EQ(what.rfind("m.yaml:7: ", 0), 0u) << what;  // a YAML syntax error
+}
+
+TEST(ModelReader, BeamErrors) {
+  auto beam = [](std::initializer_list<std::string_view> entry) {
+    std::string s = "beams:\n";  // line 1, the entry from line 2
+    for (const auto l : entry) s += std::string(l) + '\n';
+    return s;
+  };
+  const std::string_view section = "    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}";
+  // name
+  EXPECT_EQ(error_of(beam({"  - points: [[0, 0, 0], [1, 0, 0]]", "    elements: 1",
+                           "    d1: [0, 0, 1]", section})),
+            "m.yaml:2: beams[0].name: missing required key");
+  EXPECT_EQ(error_of(beam({"  - name: \"\""})), "m.yaml:2: beams[0].name: must not be empty");
+  EXPECT_EQ(error_of(beam({"  - name: ground"})),
+            "m.yaml:2: beams[0].name: \"ground\" is reserved for the fixed space");
+  EXPECT_EQ(error_of(beam({"  - name: a[1]"})),
+            "m.yaml:2: beams[0].name: must not contain '[' or ']' (they mark beam nodes, as in "
+            "crank[3])");
+  EXPECT_EQ(error_of(with_beam({"  - name: crank"})),
+            "m.yaml:7: beams[1].name: duplicate beam name \"crank\" (first at line 2)");
+  // The later of a body and a beam of the same name is reported.
+  EXPECT_EQ(error_of(with_beam({"bodies:", "  - name: crank", "    mass: 1",
+                                "    inertia: [1, 1, 1]", "    position: [0, 0, 0]"})),
+            "m.yaml:8: bodies[0].name: duplicate name \"crank\": already the name of the beam at "
+            "line 2");
+  EXPECT_EQ(error_of(with_bodies({kBeam[0], "  - name: top"})),
+            "m.yaml:7: beams[0].name: duplicate name \"top\": already the name of the body at "
+            "line 2");
+  EXPECT_EQ(error_of(lines({"bodies:", "  - name: a]", "    mass: 1", "    inertia: [1, 1, 1]",
+                            "    position: [0, 0, 0]"})),
+            "m.yaml:2: bodies[0].name: must not contain '[' or ']' (they mark beam nodes, as in "
+            "crank[3])");
+  // unknown keys
+  EXPECT_EQ(error_of(with_beam({"    radius: 1"})),
+            "m.yaml:7: beams[0].radius: unknown key (valid keys: name, points, elements, d1, "
+            "section)");
+  // points
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0]]"})),
+            "m.yaml:3: beams[0].points: expected a list of at least 2 points [[x, y, z], [x, y, "
+            "z], ...]");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [0, 0, 0]"})),
+            "m.yaml:3: beams[0].points[0]: expected a list of 3 numbers [x, y, z]");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points:", "      - [0, 0, 0]", "      - [1, 0, 0]",
+                           "      - [1, 0, 0]"})),
+            "m.yaml:6: beams[0].points[2]: coincides with points[1] (consecutive points must be "
+            "distinct)");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0]]"})),
+            "m.yaml:2: beams[0].elements: missing required key");
+  // elements
+  EXPECT_EQ(
+      error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0]]", "    elements: 0"})),
+      "m.yaml:4: beams[0].elements: must be >= 1, got 0");
+  EXPECT_EQ(
+      error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0]]", "    elements: 2.5"})),
+      "m.yaml:4: beams[0].elements: expected an integer");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0], [1, 1, 0]]",
+                           "    elements: [1, 2, 3]"})),
+            "m.yaml:4: beams[0].elements: expected one number of elements per segment (2 "
+            "segments), got 3");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0], [1, 1, 0]]",
+                           "    elements: [1, 0]"})),
+            "m.yaml:4: beams[0].elements[1]: must be >= 1, got 0");
+  EXPECT_EQ(
+      error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0]]", "    elements: {n: 1}"})),
+      "m.yaml:4: beams[0].elements: expected an integer (elements in every segment) or a "
+      "list of one integer per segment");
+  EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0], [1, 0, 0], [1, 1, 0]]",
+                           "    elements: 2000000000"})),
+            "m.yaml:4: beams[0].elements: too many elements (4000000000 in all, at most "
+            "10000000)");
+  // d1
+  const std::string_view pts = "    points: [[0, 0, 0], [1, 0, 0], [1, 1, 0]]";
+  EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [0, 0, 0]", section})),
+            "m.yaml:5: beams[0].d1: must be a nonzero vector");
+  EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [0, -2, 0]", section})),
+            "m.yaml:5: beams[0].d1: must not be parallel to segment 1 (points[1] to points[2]): "
+            "|cos| = 1");
+  EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", section})),
+            "m.yaml:2: beams[0].d1: missing required key");
+  // Nearly parallel (|cos| ≥ 1 − 1e-6) is rejected, |cos| just below is accepted.
+  {
+    const std::string what =
+        error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [1, 0, 1e-4]", section}));
+    EXPECT_EQ(what.rfind("m.yaml:5: beams[0].d1: must not be parallel to segment 0 (points[0] to "
+                         "points[1]): |cos| = 0.99999999",
+                         0),
+              0u)
+        << what;
+  }
+  EXPECT_NO_THROW(read_model_string(
+      beam({"  - name: b", pts, "    elements: 1", "    d1: [1, 0, 2e-3]", section}), "m.yaml"));
+  // section
+  auto with_section = [&](std::string_view s) {
+    return beam({"  - name: b", pts, "    elements: 1", "    d1: [0, 0, 1]", s});
+  };
+  EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [0, 0, 1]"})),
+            "m.yaml:2: beams[0].section: missing required key");
+  EXPECT_EQ(error_of(with_section("    section: 1")),
+            "m.yaml:6: beams[0].section: expected a mapping of keys");
+  EXPECT_EQ(error_of(with_section("    section: {GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.EA: missing required key");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.GJ: missing required key");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.A_rho: missing required key");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.GA: missing required key (or give both GA1 and GA2)");
+  EXPECT_EQ(
+      error_of(with_section("    section: {EA: 1, GA1: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+      "m.yaml:6: beams[0].section.GA2: missing required key (give both GA1 and GA2, or GA "
+      "alone)");
+  EXPECT_EQ(error_of(with_section(
+                "    section: {EA: 1, GA: 1, GA2: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.GA2: give either GA or GA2, not both");
+  EXPECT_EQ(error_of(with_section(
+                "    section: {EA: 1, GA: 1, EI: 1, EI1: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.EI1: give either EI or EI1, not both");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+            "m.yaml:6: beams[0].section.EI: missing required key (or give both EI1 and EI2)");
+  EXPECT_EQ(
+      error_of(with_section("    section: {EA: 1, GA: 1, EI2: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+      "m.yaml:6: beams[0].section.EI1: missing required key (give both EI1 and EI2, or EI "
+      "alone)");
+  EXPECT_EQ(error_of(with_section(
+                "    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1, M_rho1: 1}")),
+            "m.yaml:6: beams[0].section.M_rho1: give either M_rho or M_rho1, not both");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1}")),
+            "m.yaml:6: beams[0].section.M_rho: missing required key (or give both M_rho1 and "
+            "M_rho2)");
+  EXPECT_EQ(
+      error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho1: 1}")),
+      "m.yaml:6: beams[0].section.M_rho2: missing required key (give both M_rho1 and M_rho2, or "
+      "M_rho alone)");
+  EXPECT_EQ(
+      error_of(with_section("    section: {EA: -1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+      "m.yaml:6: beams[0].section.EA: must be > 0, got -1");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 0}")),
+            "m.yaml:6: beams[0].section.M_rho: must be > 0, got 0");
+  EXPECT_EQ(
+      error_of(with_section("    section: {EA: 1, GA: .inf, EI: 1, GJ: 1, A_rho: 1, M_rho: 1}")),
+      "m.yaml:6: beams[0].section.GA: must be a finite number");
+  EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1, "
+                                  "EIz: 2}")),
+            "m.yaml:6: beams[0].section.EIz: unknown key (valid keys: EA, GA, GA1, GA2, EI, EI1, "
+            "EI2, GJ, A_rho, M_rho, M_rho1, M_rho2)");
+  EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [0, 0, 1]",
+                           "    section:", "      EA: 1", "      GA: 1", "      EI: 1",
+                           "      GJ: 1", "      A_rho: 1", "      M_rho1: 1", "      M_rho2: x"})),
+            "m.yaml:13: beams[0].section.M_rho2: expected a number");
+}
+
+TEST(ModelReader, BeamNodeReferenceErrors) {
+  auto joint_to = [](std::string_view body_b) {
+    return with_beam({"joints:", "  - type: fixed", "    body_b: " + std::string(body_b)});
+  };
+  EXPECT_EQ(error_of(joint_to("crnk[3]")), "m.yaml:9: joints[0].body_b: no beam named \"crnk\"");
+  EXPECT_EQ(error_of(joint_to("crank[25]")),
+            "m.yaml:9: joints[0].body_b: node index 25 out of range: beam \"crank\" has 21 nodes "
+            "(0 … 20)");
+  EXPECT_EQ(error_of(joint_to("crank[21]")),
+            "m.yaml:9: joints[0].body_b: node index 21 out of range: beam \"crank\" has 21 nodes "
+            "(0 … 20)");
+  EXPECT_EQ(error_of(joint_to("crank[99999999999999999999999]")),
+            "m.yaml:9: joints[0].body_b: node index 99999999999999999999999 out of range: beam "
+            "\"crank\" has 21 nodes (0 … 20)");
+  EXPECT_NO_THROW(read_model_string(joint_to("crank[20]"), "m.yaml"));
+  for (const char* bad : {"crank[x]", "crank[-1]", "crank[+1]", "crank[]", "crank[1]x",
+                          "crank[1][2]", "\"[1]\"", "crank]1[", "\"crank[1\"", "crank[ 1]"})
+    EXPECT_EQ(error_of(joint_to(bad)),
+              fmt::format("m.yaml:9: joints[0].body_b: malformed beam node reference \"{}\" "
+                          "(expected BEAM[INDEX], e.g. crank[0], with a decimal index counted "
+                          "from 0)",
+                          std::string_view(bad).starts_with('"')
+                              ? std::string_view(bad).substr(1, std::string_view(bad).size() - 2)
+                              : std::string_view(bad)));
+  EXPECT_EQ(error_of(joint_to("crank")),
+            "m.yaml:9: joints[0].body_b: \"crank\" is a beam, not a body: name one of its nodes, "
+            "crank[i] with i = 0 … 20");
+  EXPECT_EQ(error_of(with_beam({"joints:", "  - type: fixed", "    body_a: crank",
+                                "    body_b: "
+                                "crank[1]"})),
+            "m.yaml:9: joints[0].body_a: \"crank\" is a beam, not a body: name one of its nodes, "
+            "crank[i] with i = 0 … 20");
+  EXPECT_EQ(error_of(with_beam(
+                {"joints:", "  - type: fixed", "    body_a: crank[3]", "    body_b: crank[03]"})),
+            "m.yaml:10: joints[0].body_b: body_a and body_b are the same beam node \"crank[3]\"");
+  EXPECT_EQ(error_of(with_beam({"loads:", "  - body: crank[21]", "    force: [1, 0, 0]"})),
+            "m.yaml:8: loads[0].body: node index 21 out of range: beam \"crank\" has 21 nodes (0 "
+            "… 20)");
+  EXPECT_EQ(error_of(with_beam({"probes:", "  - name: p", "    body: crank"})),
+            "m.yaml:9: probes[0].body: \"crank\" is a beam, not a body: name one of its nodes, "
+            "crank[i] with i = 0 … 20");
+  EXPECT_EQ(error_of(with_beam({"probes:", "  - name: p", "    body: crank[x]"})),
+            "m.yaml:9: probes[0].body: malformed beam node reference \"crank[x]\" (expected "
+            "BEAM[INDEX], e.g. crank[0], with a decimal index counted from 0)");
+  EXPECT_EQ(error_of(with_beam({"probes:", "  - name: p", "    body: ground"})),
+            "m.yaml:9: probes[0].body: must name a body, not the fixed space \"ground\"");
+}
+
+TEST(ModelReader, DistributedLoadErrors) {
+  EXPECT_EQ(error_of(with_beam({"distributed_loads:", "  - force_per_length: [0, 0, -1]"})),
+            "m.yaml:8: distributed_loads[0].beam: missing required key");
+  EXPECT_EQ(error_of(with_beam({"distributed_loads:", "  - beam: crank"})),
+            "m.yaml:8: distributed_loads[0].force_per_length: missing required key");
+  EXPECT_EQ(error_of(with_beam(
+                {"distributed_loads:", "  - beam: crnk", "    force_per_length: [0, 0, -1]"})),
+            "m.yaml:8: distributed_loads[0].beam: no beam named \"crnk\"");
+  EXPECT_EQ(error_of(with_beam(
+                {"distributed_loads:", "  - beam: crank[2]", "    force_per_length: [0, 0, -1]"})),
+            "m.yaml:8: distributed_loads[0].beam: must name a whole beam (\"crank\"), not one of "
+            "its nodes");
+  EXPECT_EQ(error_of(with_bodies(
+                {"distributed_loads:", "  - beam: top", "    force_per_length: [0, 0, -1]"})),
+            "m.yaml:7: distributed_loads[0].beam: \"top\" is a body: distributed loads act on "
+            "beams only");
+  EXPECT_EQ(error_of(with_beam(
+                {"distributed_loads:", "  - beam: crank", "    force_per_length: [0, -1]"})),
+            "m.yaml:9: distributed_loads[0].force_per_length: expected a list of 3 numbers or "
+            "expressions in t");
+  EXPECT_EQ(error_of(with_beam({"distributed_loads:", "  - beam: crank",
+                                "    force_per_length: [0, 0, \"sin(t\"]"})),
+            "m.yaml:9: distributed_loads[0].force_per_length[2]: invalid expression \"sin(t\": "
+            "Missing parenthesis");
+  EXPECT_EQ(error_of(with_beam({"distributed_loads:", "  - beam: crank",
+                                "    force_per_length: [0, 0, -1]", "    point: [0, 0, 0]"})),
+            "m.yaml:10: distributed_loads[0].point: unknown key (valid keys: name, beam, "
+            "force_per_length)");
+  EXPECT_EQ(error_of(with_beam({"distributed_loads: {beam: crank}"})),
+            "m.yaml:7: distributed_loads: expected a list");
+  const model::Model m = read_model_string(with_beam({"distributed_loads:"}), "m.yaml");
+  EXPECT_TRUE(m.distributed_loads.empty());
+}
+
+// The beam example of docs/model-files.md is a valid model.
+TEST(ModelReader, DocumentationBeamExampleIsValid) {
+  const std::string doc_path = std::string(ISOFLEX_SOURCE_DIR) + "/docs/model-files.md";
+  std::ifstream in(doc_path);
+  ASSERT_TRUE(in) << doc_path;
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto section = doc.find("## `beams`");
+  ASSERT_NE(section, std::string::npos);
+  const auto begin = doc.find("```yaml\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = doc.find("```", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  const model::Model m = read_model_string(doc.substr(begin + 8, end - begin - 8), "example");
+  EXPECT_EQ(m.beams.size(), 1u);
+  EXPECT_EQ(m.distributed_loads.size(), 1u);
+  EXPECT_FALSE(m.joints.empty());
 }

@@ -42,6 +42,8 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err) {
 std::vector<std::string> body_names(const model::Model& m) {
   std::vector<std::string> names;
   for (const auto& b : m.bodies) names.push_back(b.name);
+  for (const auto& b : m.beams)
+    for (int i = 0; i < b.node_count(); ++i) names.push_back(fmt::format("{}[{}]", b.name, i));
   return names;
 }
 
@@ -70,6 +72,11 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   const int m_int = 6 * sys.node_count();
   fmt::print(out, "model            {}\n", file);
   fmt::print(out, "bodies           {}\n", l->model.bodies.size());
+  if (!sys.beams().empty()) {
+    std::size_t elements = 0;
+    for (const auto& b : sys.beams()) elements += b.elements.size();
+    fmt::print(out, "beams            {} ({} elements)\n", sys.beams().size(), elements);
+  }
   fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
@@ -120,6 +127,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   std::vector<std::unique_ptr<integrate::Observer>> observers;
   if (m.output.history) observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
   observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
+  if (m.output.history) observers.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
   if (m.output.vtk_every > 0)
     observers.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
   observers.push_back(std::make_unique<ProgressBar>(m.solver.t_end, err));

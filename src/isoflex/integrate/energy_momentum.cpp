@@ -344,6 +344,14 @@ Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
     b.angular_velocity = w;
     out.bodies.push_back(b);
   }
+  for (int b = 0; b < static_cast<int>(sys_.beams().size()); ++b) {
+    const auto& beam = sys_.beams()[b];
+    for (int e = 0; e < static_cast<int>(beam.elements.size()); ++e) {
+      const auto r = beam.elements[e]->stress_resultants(sys_.beam_element_q(s.q, b, e));
+      out.beam_elements.push_back(
+          {beam.name, e, beam.elements[e]->nodes()[0], beam.elements[e]->nodes()[1], r.n, r.m});
+    }
+  }
   for (const auto& p : sys_.probes()) {
     ProbeValue pv;
     pv.name = p.name;

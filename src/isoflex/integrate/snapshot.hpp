@@ -23,6 +23,15 @@ struct ProbeValue {
   Vec3 velocity = Vec3::Zero();
 };
 
+// Stress resultants of one beam element (DNSM-III (69)): n = ∂W/∂Γ (shear along d₁, d₂; axial
+// force), m = ∂W/∂K (bending about d₁, d₂; torsion), components in the element's directors.
+struct BeamElementValue {
+  std::string beam;
+  int element = 0;             // index along the beam, from 0
+  int node_a = 0, node_b = 0;  // indices into Snapshot::bodies (the node poses)
+  Vec3 n = Vec3::Zero(), m = Vec3::Zero();
+};
+
 struct Snapshot {
   int step = 0;  // 0 = initial state
   double t = 0.0;
@@ -34,8 +43,9 @@ struct Snapshot {
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints
   int newton_iterations = 0;             // of this step (0 for the initial state)
   double residual = 0.0;                 // final Newton residual norm of this step
-  std::vector<BodyPose> bodies;
+  std::vector<BodyPose> bodies;  // every node: the bodies in model order, then the beam nodes
   std::vector<ProbeValue> probes;
+  std::vector<BeamElementValue> beam_elements;
 };
 
 // Observers are called in order after the initial state and after every converged step.

@@ -111,4 +111,20 @@ void ProbeWriter::on_finish() {
   file_.flush();
 }
 
+ResultantsWriter::ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model) {
+  if (!model.beams.empty()) file_ = CsvFile(outdir / "resultants.csv", kResultantsHeader);
+}
+
+void ResultantsWriter::on_snapshot(const integrate::Snapshot& s) {
+  if (!file_) return;
+  for (const auto& e : s.beam_elements)
+    fmt::print(file_.get(), "{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t,
+               csv_field(e.beam), e.element, e.n.x(), e.n.y(), e.n.z(), e.m.x(), e.m.y(), e.m.z());
+  file_.flush();
+}
+
+void ResultantsWriter::on_finish() {
+  file_.flush();
+}
+
 }  // namespace isoflex::io

@@ -4,6 +4,8 @@
 //   history.csv: t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,
 //                constraint_violation,newton_iterations,residual
 //   probes.csv:  t,probe,x,y,z,ux,uy,uz,vx,vy,vz (one row per probe and snapshot)
+//   resultants.csv: t,beam,element,n1,n2,n3,m1,m2,m3 (one row per beam element and snapshot;
+//                stress resultants in director components, DNSM-III (69))
 #include <cstdio>
 #include <filesystem>
 
@@ -16,6 +18,7 @@ inline constexpr const char* kHistoryHeader =
     "t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,constraint_violation,"
     "newton_iterations,residual";
 inline constexpr const char* kProbesHeader = "t,probe,x,y,z,ux,uy,uz,vx,vy,vz";
+inline constexpr const char* kResultantsHeader = "t,beam,element,n1,n2,n3,m1,m2,m3";
 
 // Owns an output file opened for writing (closed on destruction).
 class CsvFile {
@@ -55,6 +58,17 @@ class HistoryWriter : public integrate::Observer {
 class ProbeWriter : public integrate::Observer {
  public:
   ProbeWriter(const std::filesystem::path& outdir, const model::Model& model);
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+ private:
+  CsvFile file_;
+};
+
+// Writes outdir/resultants.csv; creates no file when the model has no beams.
+class ResultantsWriter : public integrate::Observer {
+ public:
+  ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 

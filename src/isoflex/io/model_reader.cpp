@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -32,6 +35,11 @@ using model::ShapeKind;
 constexpr double kTriadTolerance = 1e-9;          // orthonormality of `orientation`
 constexpr double kPerpendicularTolerance = 1e-9;  // |cos| of axis and axis2 (universal)
 constexpr double kTriangleTolerance = 1e-12;      // relative slack in the triangle inequalities
+constexpr double kParallelTolerance = 1e-6;       // d1 of a beam: |cos| with a segment < 1 − this
+constexpr int kMaxBeamElements = 10'000'000;      // per beam; keeps node counts within int
+
+constexpr const char* kBracketMessage =
+    "must not contain '[' or ']' (they mark beam nodes, as in crank[3])";
 
 std::string join(const std::string& path, std::string_view key) {
   return path.empty() ? std::string(key) : path + "." + std::string(key);
@@ -81,7 +89,8 @@ class Reader {
       fail(root, "", "a model file must be a YAML mapping with the keys name, gravity, ...");
     expect_map(root, "");
     check_keys(root, "",
-               {"name", "gravity", "solver", "output", "bodies", "joints", "loads", "probes"});
+               {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
+                "distributed_loads", "probes"});
     Model m;
     m.file = file_;
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -89,11 +98,20 @@ class Reader {
     if (const auto n = root["solver"]) read_solver(n, m.solver);
     if (const auto n = root["output"]) read_output(n, m.output);
 
-    const YAML::Node bodies = require(root, "", "bodies");
-    if (!bodies.IsSequence() || bodies.size() == 0)
-      fail(bodies, "bodies", "expected a non-empty list of bodies");
-    for (std::size_t i = 0; i < bodies.size(); ++i)
-      m.bodies.push_back(read_body(bodies[i], indexed("bodies", i)));
+    // Bodies and beams first, wherever they stand in the file, so that joints, loads and probes
+    // may name bodies and beam nodes defined further down.
+    if (const auto list = optional_list(root, "bodies"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.bodies.push_back(read_body(list[i], indexed("bodies", i)));
+    if (const auto list = optional_list(root, "beams"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.beams.push_back(read_beam(list[i], indexed("beams", i)));
+    if (m.bodies.empty() && m.beams.empty()) {
+      const YAML::Node bodies = root["bodies"];
+      const YAML::Node beams = root["beams"];
+      if (!bodies && beams) fail(beams, "beams", "at least one body or beam is required");
+      fail(bodies ? bodies : root, "bodies", "at least one body or beam is required");
+    }
 
     if (const auto list = optional_list(root, "joints"))
       for (std::size_t i = 0; i < list.size(); ++i)
@@ -101,6 +119,10 @@ class Reader {
     if (const auto list = optional_list(root, "loads"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.loads.push_back(read_load(list[i], indexed("loads", i), i));
+    if (const auto list = optional_list(root, "distributed_loads"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.distributed_loads.push_back(
+            read_distributed_load(list[i], indexed("distributed_loads", i), i));
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i)));
@@ -287,9 +309,12 @@ class Reader {
     if (b.name.empty()) fail(name, join(p, "name"), "must not be empty");
     if (b.name == "ground")
       fail(name, join(p, "name"), "\"ground\" is reserved for the fixed space");
+    if (b.name.find_first_of("[]") != std::string::npos)
+      fail(name, join(p, "name"), kBracketMessage);
     if (const auto [pos, inserted] = body_lines_.emplace(b.name, line_of(name)); !inserted)
       fail(name, join(p, "name"),
            fmt::format("duplicate body name \"{}\" (first at line {})", b.name, pos->second));
+    body_names_.emplace(b.name, std::make_pair(name, join(p, "name")));
 
     b.mass = positive(require(n, p, "mass"), join(p, "mass"));
 
@@ -357,15 +382,196 @@ class Reader {
     return s;
   }
 
-  // A reference to a body by name; `allow_ground` admits "ground".
+  // A reference to a body or a beam node by name; `allow_ground` admits "ground". A beam node
+  // "<beam>[<i>]" is returned in the canonical form (decimal index without leading zeros).
   std::string body_ref(const YAML::Node& n, const std::string& key, bool allow_ground) const {
     const std::string name = string(n, key);
     if (name == "ground") {
       if (!allow_ground) fail(n, key, "must name a body, not the fixed space \"ground\"");
       return name;
     }
-    if (!body_lines_.contains(name)) fail(n, key, "no body named \"" + name + "\"");
-    return name;
+    if (body_lines_.contains(name)) return name;
+    if (name.find_first_of("[]") != std::string::npos) return beam_node_ref(n, key, name);
+    if (const auto it = beams_.find(name); it != beams_.end())
+      fail(n, key,
+           fmt::format("\"{0}\" is a beam, not a body: name one of its nodes, {0}[i] with i = 0 "
+                       "… {1}",
+                       name, it->second.node_count - 1));
+    fail(n, key, "no body named \"" + name + "\"");
+  }
+
+  // "<beam>[<i>]" with a defined beam and 0 <= i < its node count.
+  std::string beam_node_ref(const YAML::Node& n, const std::string& key,
+                            const std::string& ref) const {
+    const auto open = ref.find('[');
+    const bool well_formed =
+        open != std::string::npos && open > 0 && ref.find_first_of("[]") == open &&
+        ref.size() >= open + 3 && ref.back() == ']' &&
+        ref.find_first_of("[]", open + 1) == ref.size() - 1 &&
+        std::all_of(ref.begin() + static_cast<std::ptrdiff_t>(open) + 1, ref.end() - 1,
+                    [](char c) { return c >= '0' && c <= '9'; });
+    if (!well_formed)
+      fail(n, key,
+           fmt::format("malformed beam node reference \"{}\" (expected BEAM[INDEX], e.g. "
+                       "crank[0], with a decimal index counted from 0)",
+                       ref));
+    const std::string beam = ref.substr(0, open);
+    const std::string digits = ref.substr(open + 1, ref.size() - open - 2);
+    const auto it = beams_.find(beam);
+    if (it == beams_.end()) fail(n, key, "no beam named \"" + beam + "\"");
+    const int count = it->second.node_count;
+    long long index = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+    if (ec != std::errc() || end != digits.data() + digits.size() || index >= count) {
+      const auto first = digits.find_first_not_of('0');
+      fail(n, key,
+           fmt::format("node index {} out of range: beam \"{}\" has {} nodes (0 … {})",
+                       first == std::string::npos ? "0" : digits.substr(first), beam, count,
+                       count - 1));
+    }
+    return fmt::format("{}[{}]", beam, index);
+  }
+
+  model::Beam read_beam(const YAML::Node& n, const std::string& p) {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "points", "elements", "d1", "section"});
+    model::Beam b;
+    b.source = source(n);
+
+    const YAML::Node name = require(n, p, "name");
+    const std::string name_key = join(p, "name");
+    b.name = string(name, name_key);
+    if (b.name.empty()) fail(name, name_key, "must not be empty");
+    if (b.name == "ground") fail(name, name_key, "\"ground\" is reserved for the fixed space");
+    if (b.name.find_first_of("[]") != std::string::npos) fail(name, name_key, kBracketMessage);
+    if (const auto it = beams_.find(b.name); it != beams_.end())
+      fail(name, name_key,
+           fmt::format("duplicate beam name \"{}\" (first at line {})", b.name, it->second.line));
+    if (const auto it = body_names_.find(b.name); it != body_names_.end()) {
+      // Reported at whichever of the two comes later in the file.
+      const auto& [body_name, body_key] = it->second;
+      if (line_of(body_name) > line_of(name))
+        fail(body_name, body_key,
+             fmt::format("duplicate name \"{}\": already the name of the beam at line {}", b.name,
+                         line_of(name)));
+      fail(name, name_key,
+           fmt::format("duplicate name \"{}\": already the name of the body at line {}", b.name,
+                       line_of(body_name)));
+    }
+
+    const YAML::Node points = require(n, p, "points");
+    const std::string points_key = join(p, "points");
+    if (!points.IsSequence() || points.size() < 2)
+      fail(points, points_key, "expected a list of at least 2 points [[x, y, z], [x, y, z], ...]");
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      b.points.push_back(vec3(points[k], indexed(points_key, k)));
+      if (k > 0 && b.points[k] == b.points[k - 1])
+        fail(points[k], indexed(points_key, k),
+             fmt::format("coincides with {} (consecutive points must be distinct)",
+                         indexed("points", k - 1)));
+    }
+    const std::size_t segments = points.size() - 1;
+
+    const YAML::Node elements = require(n, p, "elements");
+    const std::string elements_key = join(p, "elements");
+    if (elements.IsSequence()) {
+      if (elements.size() != segments)
+        fail(elements, elements_key,
+             fmt::format("expected one number of elements per segment ({} {}), got {}", segments,
+                         segments == 1 ? "segment" : "segments", elements.size()));
+      for (std::size_t k = 0; k < segments; ++k)
+        b.elements.push_back(integer(elements[k], indexed(elements_key, k), 1));
+    } else if (elements.IsScalar()) {
+      b.elements.assign(segments, integer(elements, elements_key, 1));
+    } else {
+      fail(elements, elements_key,
+           "expected an integer (elements in every segment) or a list of one integer per segment");
+    }
+
+    long long total = 0;
+    for (const int e : b.elements) total += e;
+    if (total > kMaxBeamElements)
+      fail(elements, elements_key,
+           fmt::format("too many elements ({} in all, at most {})", total, kMaxBeamElements));
+
+    const YAML::Node d1 = require(n, p, "d1");
+    b.d1 = direction(d1, join(p, "d1"));
+    for (std::size_t k = 0; k < segments; ++k) {
+      const Vec3 axis = (b.points[k + 1] - b.points[k]).normalized();
+      const double c = std::abs(b.d1.dot(axis));
+      if (!(c < 1.0 - kParallelTolerance))
+        fail(
+            d1, join(p, "d1"),
+            fmt::format("must not be parallel to segment {} (points[{}] to points[{}]): |cos| = {}",
+                        k, k, k + 1, c));
+    }
+
+    b.section = read_section(require(n, p, "section"), join(p, "section"));
+    beams_.emplace(b.name, BeamInfo{line_of(name), b.node_count()});
+    return b;
+  }
+
+  model::BeamSection read_section(const YAML::Node& n, const std::string& p) const {
+    expect_map(n, p);
+    check_keys(
+        n, p,
+        {"EA", "GA", "GA1", "GA2", "EI", "EI1", "EI2", "GJ", "A_rho", "M_rho", "M_rho1", "M_rho2"});
+    model::BeamSection s;
+    s.EA = positive(require(n, p, "EA"), join(p, "EA"));
+    s.GJ = positive(require(n, p, "GJ"), join(p, "GJ"));
+    s.A_rho = positive(require(n, p, "A_rho"), join(p, "A_rho"));
+    // `both` sets the two values at once; otherwise both long forms are required.
+    auto either = [&](const char* both, const char* first, const char* second, double& v1,
+                      double& v2) {
+      if (const auto v = n[both]) {
+        for (const char* k : {first, second})
+          if (n[k]) fail(n[k], join(p, k), fmt::format("give either {} or {}, not both", both, k));
+        v1 = v2 = positive(v, join(p, both));
+        return;
+      }
+      if (!n[first] && !n[second])
+        fail(n, join(p, both),
+             fmt::format("missing required key (or give both {} and {})", first, second));
+      for (const char* k : {first, second})
+        if (!n[k])
+          fail(n, join(p, k),
+               fmt::format("missing required key (give both {} and {}, or {} alone)", first, second,
+                           both));
+      v1 = positive(n[first], join(p, first));
+      v2 = positive(n[second], join(p, second));
+    };
+    either("GA", "GA1", "GA2", s.GA1, s.GA2);
+    either("EI", "EI1", "EI2", s.EI1, s.EI2);
+    either("M_rho", "M_rho1", "M_rho2", s.M_rho1, s.M_rho2);
+    return s;
+  }
+
+  model::DistributedLoad read_distributed_load(const YAML::Node& n, const std::string& p,
+                                               std::size_t index) const {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "beam", "force_per_length"});
+    model::DistributedLoad l;
+    l.source = source(n);
+    if (const auto v = n["name"]) {
+      l.name = string(v, join(p, "name"));
+    } else {
+      l.name = "distributed_load" + std::to_string(index);
+    }
+    const YAML::Node beam = require(n, p, "beam");
+    l.beam = string(beam, join(p, "beam"));
+    if (!beams_.contains(l.beam)) {
+      if (body_lines_.contains(l.beam))
+        fail(beam, join(p, "beam"),
+             "\"" + l.beam + "\" is a body: distributed loads act on beams only");
+      if (const auto open = l.beam.find('[');
+          open != std::string::npos && beams_.contains(l.beam.substr(0, open)))
+        fail(beam, join(p, "beam"),
+             fmt::format("must name a whole beam (\"{}\"), not one of its nodes",
+                         l.beam.substr(0, open)));
+      fail(beam, join(p, "beam"), "no beam named \"" + l.beam + "\"");
+    }
+    l.force_per_length = functions(require(n, p, "force_per_length"), join(p, "force_per_length"));
+    return l;
   }
 
   Joint read_joint(const YAML::Node& n, const std::string& p, std::size_t index) {
@@ -396,7 +602,9 @@ class Reader {
     const YAML::Node body_b = require(n, p, "body_b");
     j.body_b = body_ref(body_b, join(p, "body_b"), false);
     if (j.body_a == j.body_b)
-      fail(body_b, join(p, "body_b"), "body_a and body_b are the same body \"" + j.body_b + "\"");
+      fail(body_b, join(p, "body_b"),
+           fmt::format("body_a and body_b are the same {} \"{}\"",
+                       j.body_b.ends_with(']') ? "beam node" : "body", j.body_b));
 
     // At most one of each group of alternatives.
     auto one_of = [&](std::initializer_list<const char*> keys) {
@@ -493,8 +701,15 @@ class Reader {
     if (local) point_local = vec3(local, join(p, "point_local"));
   }
 
+  struct BeamInfo {
+    int line = 0;  // of its name
+    int node_count = 0;
+  };
+
   std::string file_;
   std::map<std::string, int> body_lines_;  // name → line of its definition
+  std::map<std::string, std::pair<YAML::Node, std::string>> body_names_;  // name → (node, key)
+  std::map<std::string, BeamInfo> beams_;
   std::map<std::string, int> joint_lines_;
   std::map<std::string, int> probe_lines_;
   mutable std::vector<std::pair<YAML::Node, int>> null_lines_;  // empty values → their key's line

@@ -232,17 +232,39 @@ void VtkSeriesWriter::on_finish() {
 }
 
 void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
-  if (s.bodies.size() != shapes_.size()) {
-    throw std::runtime_error(fmt::format("VTK output: snapshot has {} bodies, the model has {}",
+  if (s.bodies.size() < shapes_.size()) {
+    throw std::runtime_error(fmt::format("VTK output: snapshot has {} nodes, the model {} bodies",
                                          s.bodies.size(), shapes_.size()));
   }
+  // Bodies (id = body index), then one line cell per beam element (id −1, part 4) carrying the
+  // element's stress resultants.
   std::vector<BodyMesh> meshes;
-  meshes.reserve(s.bodies.size());
+  std::vector<int> ids;
+  std::vector<std::pair<Vec3, Vec3>> resultants;  // (n, m) of the mesh's cells
+  meshes.reserve(shapes_.size() + s.beam_elements.size());
   std::size_t n_points = 0, n_cells = 0;
-  for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
     meshes.push_back(body_mesh(shapes_[i], s.bodies[i]));
-    n_points += meshes.back().points.size();
-    n_cells += meshes.back().types.size();
+    ids.push_back(static_cast<int>(i));
+    resultants.emplace_back(Vec3::Zero(), Vec3::Zero());
+  }
+  for (const auto& e : s.beam_elements) {
+    const auto& a = s.bodies.at(e.node_a);
+    const auto& b = s.bodies.at(e.node_b);
+    BodyMesh m;
+    m.points = {a.position, b.position};
+    m.velocities = {a.velocity, b.velocity};
+    m.connectivity = {0, 1};
+    m.offsets = {2};
+    m.types = {kVtkLine};
+    m.parts = {kBeamPart};
+    meshes.push_back(std::move(m));
+    ids.push_back(-1);
+    resultants.emplace_back(e.n, e.m);
+  }
+  for (const auto& m : meshes) {
+    n_points += m.points.size();
+    n_cells += m.types.size();
   }
 
   fmt::memory_buffer out;
@@ -287,7 +309,7 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     if (meshes[i].types.empty()) continue;
     out.append(std::string_view("          "));
-    for (std::size_t c = 0; c < meshes[i].types.size(); ++c) fmt::format_to(it, "{} ", i);
+    for (std::size_t c = 0; c < meshes[i].types.size(); ++c) fmt::format_to(it, "{} ", ids[i]);
     out.push_back('\n');
   }
   fmt::format_to(it,
@@ -299,7 +321,27 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     for (const int p : m.parts) fmt::format_to(it, "{} ", p);
     out.push_back('\n');
   }
-  fmt::format_to(it, "        </DataArray>\n      </CellData>\n");
+  fmt::format_to(it, "        </DataArray>\n");
+  for (const int which : {0, 1}) {
+    fmt::format_to(it,
+                   "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" "
+                   "format=\"ascii\">\n",
+                   which == 0 ? "n" : "m");
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      const Vec3& v = which == 0 ? resultants[i].first : resultants[i].second;
+      for (std::size_t c = 0; c < meshes[i].types.size(); ++c) {
+        out.append(std::string_view("          "));
+        append_real(out, v.x());
+        out.push_back(' ');
+        append_real(out, v.y());
+        out.push_back(' ');
+        append_real(out, v.z());
+        out.push_back('\n');
+      }
+    }
+    fmt::format_to(it, "        </DataArray>\n");
+  }
+  fmt::format_to(it, "      </CellData>\n");
 
   // Points
   fmt::format_to(it,

@@ -6,7 +6,10 @@
 //
 // Each .vtu holds, per body, its drawing shape as surface cells in the current pose
 // x = φ + R·X (R = [d₁ d₂ d₃]) and the director triad as three line cells from φ.
-//   cell data:  body_id (Int32, index into model.bodies), part (Int32: 0 shape, 1/2/3 = d₁/d₂/d₃)
+// Each beam element is one line cell between its nodes.
+//   cell data:  body_id (Int32, index into model.bodies; −1 for beam elements), part (Int32:
+//               0 shape, 1/2/3 = d₁/d₂/d₃, 4 beam element), n and m (Float64 × 3: the beam
+//               element's stress resultants in director components, DNSM-III (69); 0 for bodies)
 //   point data: velocity (Float64 × 3) = φ̇ + ω × (x − φ)
 //   field data: TimeValue (Float64, the snapshot time; ParaView shows it as the time)
 #include <chrono>
@@ -39,6 +42,7 @@ inline constexpr unsigned char kVtkQuad = 9;
 
 // Segments around the circumference of cylinders and spheres, rings of a sphere (pole to pole).
 inline constexpr int kRoundSegments = 24;
+inline constexpr int kBeamPart = 4;
 inline constexpr int kSphereRings = 12;
 
 // Length of the drawn director lines: half the largest shape dimension, 0.2 without a shape.

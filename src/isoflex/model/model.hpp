@@ -91,6 +91,40 @@ struct Load {
   Source source;
 };
 
+// Cross-section data of a geometrically exact beam (DNSM-III (69), §5.2): stiffnesses for shear
+// along d₁, d₂ (GA1, GA2), extension (EA), bending about d₁, d₂ (EI1, EI2), torsion (GJ); mass
+// per length A_ρ and the cross-section's mass moments M_ρ¹, M_ρ² (inertia of d₁, d₂).
+struct BeamSection {
+  double EA = 0, GA1 = 0, GA2 = 0, EI1 = 0, EI2 = 0, GJ = 0;
+  double A_rho = 0, M_rho1 = 0, M_rho2 = 0;
+};
+
+// A beam along a polyline, meshed with two-node elements; its nodes are frame nodes named
+// "<name>[i]" (i = 0 … node_count() − 1, counted along the polyline) wherever a body name is
+// expected (joints, loads, probes).
+struct Beam {
+  std::string name;
+  std::vector<Vec3> points;   // polyline vertices, global at t = 0 (at least 2)
+  std::vector<int> elements;  // elements per segment (points.size() − 1 entries, each ≥ 1)
+  Vec3 d1 = Vec3::UnitZ();    // direction of the director d₁ (made orthogonal to each segment)
+  BeamSection section;
+  Source source;
+
+  int node_count() const {
+    int n = 1;
+    for (int e : elements) n += e;
+    return n;
+  }
+};
+
+// A dead load per unit reference length on a whole beam, global components as time functions.
+struct DistributedLoad {
+  std::string name;
+  std::string beam;
+  std::array<std::string, 3> force_per_length;
+  Source source;
+};
+
 // A named material point whose motion is recorded (probes.csv, summary.json).
 struct Probe {
   std::string name;
@@ -121,8 +155,10 @@ struct Model {
   std::string file;  // where it was read from, for messages
   Vec3 gravity = Vec3::Zero();
   std::vector<Body> bodies;
+  std::vector<Beam> beams;
   std::vector<Joint> joints;
   std::vector<Load> loads;
+  std::vector<DistributedLoad> distributed_loads;
   std::vector<Probe> probes;
   Solver solver;
   Output output;

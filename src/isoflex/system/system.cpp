@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <deque>
 #include <map>
 
+#include "isoflex/elements/beam_element.hpp"
+#include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
@@ -89,15 +92,60 @@ int System::joint_of_row(int row) const {
 System System::compile(const model::Model& model) {
   System s;
   s.ground_ = fn::make(Vec3::Zero(), Mat3::Identity());
-  const int N = static_cast<int>(model.bodies.size());
+  // Nodes: the bodies in model order, then the nodes of each beam along its polyline.
+  const int n_bodies = static_cast<int>(model.bodies.size());
+  int N = n_bodies;
+  for (const auto& b : model.beams) N += b.node_count();
   std::map<std::string, int> index;
   s.q0_.resize(12 * N);
-  for (int i = 0; i < N; ++i) {
+  for (int i = 0; i < n_bodies; ++i) {
     const auto& b = model.bodies[i];
     index[b.name] = i;
+    s.node_names_.push_back(b.name);
+    s.node_beam_.push_back(-1);
     s.q0_.segment<12>(12 * i) = fn::make(b.position, b.orientation);
     s.elements_.push_back(
         std::make_unique<elements::RigidBody>(i, b.mass, b.inertia, model.gravity));
+  }
+  int next = n_bodies;
+  for (std::size_t bi = 0; bi < model.beams.size(); ++bi) {
+    const auto& B = model.beams[bi];
+    const std::string what = fmt::format("beams[{}]", bi);
+    BeamInstance inst{B.name, {}, {}};
+    std::vector<fn::Q> q;
+    try {
+      for (std::size_t seg = 0; seg + 1 < B.points.size(); ++seg) {
+        const auto part =
+            elements::straight_beam_nodes(B.points[seg], B.points[seg + 1], B.d1, B.elements[seg]);
+        // A vertex shared by two segments keeps the triad of the segment before it; the
+        // reference strains of the next element absorb the kink.
+        q.insert(q.end(), part.begin() + (seg == 0 ? 0 : 1), part.end());
+      }
+    } catch (const std::exception& e) {
+      fail(B.source, what, e.what());
+    }
+    for (std::size_t k = 0; k < q.size(); ++k) {
+      index[fmt::format("{}[{}]", B.name, k)] = next + static_cast<int>(k);
+      s.node_names_.push_back(fmt::format("{}[{}]", B.name, k));
+      s.node_beam_.push_back(static_cast<int>(bi));
+      s.q0_.segment<12>(12 * (next + static_cast<int>(k))) = q[k];
+      inst.nodes.push_back(next + static_cast<int>(k));
+    }
+    const model::BeamSection& c = B.section;
+    const elements::BeamSection section{c.EA, c.GA1,   c.GA2,    c.EI1,   c.EI2,
+                                        c.GJ, c.A_rho, c.M_rho1, c.M_rho2};
+    for (std::size_t k = 0; k + 1 < q.size(); ++k) {
+      const int a = next + static_cast<int>(k);
+      try {
+        s.elements_.push_back(std::make_unique<elements::BeamElement>(a, a + 1, q[k], q[k + 1],
+                                                                      section, model.gravity));
+      } catch (const std::exception& e) {
+        fail(B.source, fmt::format("{}.section", what), e.what());
+      }
+      inst.elements.push_back(static_cast<const elements::BeamElement*>(s.elements_.back().get()));
+    }
+    next += static_cast<int>(q.size());
+    s.beams_.push_back(std::move(inst));
   }
   auto find_body = [&](const std::string& name, const model::Source& src, const std::string& what) {
     if (name == "ground") return -1;
@@ -141,6 +189,31 @@ System System::compile(const model::Model& model) {
       return f;
     };
     s.loads_.emplace_back(node, X, compile3(L.force, "force"), compile3(L.moment, "moment"));
+  }
+
+  // Distributed dead loads per length: consistent nodal forces of the linear shape functions,
+  // ∫ N_a f ds = f L/2 per element end (f constant along the element).
+  for (std::size_t l = 0; l < model.distributed_loads.size(); ++l) {
+    const auto& D = model.distributed_loads[l];
+    const std::string what = fmt::format("distributed_loads[{}]", l);
+    const auto beam = std::find_if(s.beams_.begin(), s.beams_.end(),
+                                   [&](const BeamInstance& b) { return b.name == D.beam; });
+    if (beam == s.beams_.end()) fail(D.source, what + ".beam", "no beam named '" + D.beam + "'");
+    std::vector<double> w(beam->nodes.size(), 0.0);
+    for (std::size_t e = 0; e < beam->elements.size(); ++e) {
+      w[e] += 0.5 * beam->elements[e]->reference_length();
+      w[e + 1] += 0.5 * beam->elements[e]->reference_length();
+    }
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      std::array<loads::TimeFunction, 3> f;
+      try {
+        for (int c = 0; c < 3; ++c)
+          f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", D.force_per_length[c], w[k]));
+      } catch (const std::exception& ex) {
+        fail(D.source, what + ".force_per_length", ex.what());
+      }
+      s.loads_.emplace_back(beam->nodes[k], Vec3::Zero(), f, std::nullopt);
+    }
   }
 
   // Probes.
@@ -320,8 +393,8 @@ System System::compile(const model::Model& model) {
 
   // Initial velocities: the admissible twist closest (least squares in twist components) to the
   // given body velocities, within the null space of the loop-closing rows.
-  VecX t_given = VecX::Zero(6 * N);
-  for (int i = 0; i < N; ++i) {
+  VecX t_given = VecX::Zero(6 * N);  // beam nodes start at rest
+  for (int i = 0; i < n_bodies; ++i) {
     t_given.segment<3>(6 * i) = model.bodies[i].velocity;
     t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
   }
@@ -599,6 +672,13 @@ Vec3 System::angular_momentum(const VecX& q, const VecX& v) const {
   return L;
 }
 
+VecX System::beam_element_q(const VecX& q, int b, int e) const {
+  const auto& nodes = beams_[b].elements[e]->nodes();
+  VecX qe(24);
+  qe << q.segment<12>(12 * nodes[0]), q.segment<12>(12 * nodes[1]);
+  return qe;
+}
+
 Vec3 System::material_point(const VecX& q, int node, const Vec3& X) const {
   const fn::Q qn = q.segment<12>(12 * node);
   return fn::phi(qn) + fn::directors(qn) * X;
@@ -609,10 +689,24 @@ Vec3 System::material_velocity(const VecX&, const VecX& v, int node, const Vec3&
   return fn::phi(vn) + fn::directors(vn) * X;
 }
 
-std::string System::describe_forest(const model::Model& model) const {
+std::string System::describe_forest(const model::Model&) const {
   std::string out;
-  for (int r : roots_) out += fmt::format("  root (free body): {}\n", model.bodies[r].name);
-  auto name = [&](int i) { return i < 0 ? std::string("ground") : model.bodies[i].name; };
+  // Free roots; consecutive nodes of one beam are listed as a range.
+  for (std::size_t k = 0; k < roots_.size();) {
+    const int r = roots_[k];
+    std::size_t e = k;
+    const auto beam_of = [&](int i) { return node_beam_[i]; };
+    while (beam_of(r) >= 0 && e + 1 < roots_.size() && roots_[e + 1] == roots_[e] + 1 &&
+           beam_of(roots_[e + 1]) == beam_of(r))
+      ++e;
+    if (e == k)
+      out += fmt::format("  root (free node): {}\n", node_names_[r]);
+    else
+      out += fmt::format("  root (free nodes): {} … {} ({} nodes)\n", node_names_[r],
+                         node_names_[roots_[e]], e - k + 1);
+    k = e + 1;
+  }
+  auto name = [&](int i) { return i < 0 ? std::string("ground") : node_names_[i]; };
   for (int j : tree_order_) {
     const auto& J = joints_[j];
     out += fmt::format("  tree  {:<16} {:<13} {} -> {}  (r = {}){}\n", J.name,

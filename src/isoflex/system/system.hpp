@@ -1,7 +1,7 @@
 #pragma once
 // The compiled system (docs/architecture.md, "system"): DOF layout, elements, loads, joints, the
 // constraint graph with its spanning forest, and the assembly of every quantity the integrators
-// need. Only frame nodes (rigid bodies) exist so far; node i is body i.
+// need. All nodes are frame nodes: the bodies (node i is body i), then the beam nodes.
 //
 // Layouts
 //   q ∈ Rⁿ, n = 12·nodes: node i occupies q[12i, 12i+12).
@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/elements/beam_element.hpp"
 #include "isoflex/elements/element.hpp"
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/loads/body_load.hpp"
@@ -41,6 +42,13 @@ struct JointInstance {
   bool reversed = false;  // parent/child swapped relative to body_a/body_b of the model
   int row_offset = 0;     // first row in the all-rows layout
   int nu_offset = -1;     // tree joints: first entry of τ in ν
+};
+
+// A beam of the model: its nodes along the polyline and its elements (owned by the system).
+struct BeamInstance {
+  std::string name;
+  std::vector<int> nodes;
+  std::vector<const elements::BeamElement*> elements;
 };
 
 struct ProbeInstance {
@@ -121,6 +129,10 @@ class System {
   Vec3 angular_momentum(const VecX& q, const VecX& v) const;
 
   const std::vector<ProbeInstance>& probes() const { return probes_; }
+  const std::vector<BeamInstance>& beams() const { return beams_; }
+  const std::string& node_name(int i) const { return node_names_[i]; }
+  // Stacked coordinates (24) of element e of beam b.
+  VecX beam_element_q(const VecX& q, int b, int e) const;
   Vec3 material_point(const VecX& q, int node, const Vec3& X) const;
   Vec3 material_velocity(const VecX& q, const VecX& v, int node, const Vec3& X) const;
 
@@ -135,6 +147,9 @@ class System {
   std::vector<int> root_nu_offset_;
   std::vector<int> selected_rows_, cut_rows_, redundant_rows_;
   std::vector<ProbeInstance> probes_;
+  std::vector<BeamInstance> beams_;
+  std::vector<std::string> node_names_;  // body name or "<beam>[i]"
+  std::vector<int> node_beam_;           // beam index of a node, −1 for a body
   int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
   double v0_error_ = 0.0;
   VecX q0_, v0_;

@@ -1,0 +1,204 @@
+#include "isoflex/elements/beam_element.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace isoflex::elements {
+
+namespace {
+
+using Coeff8 = Vec<8>;
+
+// Block index of field f (0 = φ, 1..3 = d_f) of node n (0 = a, 1 = b) among the eight 3-vector
+// blocks of the element's q.
+constexpr int block(int node, int field) {
+  return 4 * node + field;
+}
+
+// Coefficients of the midpoint quantities as linear combinations of the blocks, from linear
+// Lagrange interpolation N_a = 1 − s/L₀, N_b = s/L₀ at s = L₀/2 (DNSM-III (18)):
+// φ′ = (φ_b − φ_a)/L₀, d_i = ½(d_ia + d_ib), d_i′ = (d_ib − d_ia)/L₀.
+Coeff8 derivative_of(int field, double L0) {
+  Coeff8 c = Coeff8::Zero();
+  c(block(0, field)) = -1.0 / L0;
+  c(block(1, field)) = 1.0 / L0;
+  return c;
+}
+Coeff8 midpoint_of(int field) {
+  Coeff8 c = Coeff8::Zero();
+  c(block(0, field)) = 0.5;
+  c(block(1, field)) = 0.5;
+  return c;
+}
+
+// The bilinear form u·v with u = Σ α_b q_b, v = Σ β_b q_b equals ½ Σ h(b,c) q_b·q_c with
+// h = αβᵀ + βαᵀ.
+Mat<8, 8> bilinear(const Coeff8& alpha, const Coeff8& beta) {
+  return alpha * beta.transpose() + beta * alpha.transpose();
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument("BeamElement: " + message);
+}
+
+}  // namespace
+
+BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
+                         const frame_node::Q& q0_b, const BeamSection& section, const Vec3& gravity)
+    : nodes_{node_a, node_b},
+      section_(section),
+      g_(gravity),
+      L0_((frame_node::phi(q0_b) - frame_node::phi(q0_a)).norm()) {
+  // Checks at the boundary, written so that NaN fails.
+  require(L0_ > 0.0, "reference nodes coincide (L0 = " + std::to_string(L0_) + ")");
+  const double phi_int = std::max(frame_node::constraints(q0_a).cwiseAbs().maxCoeff(),
+                                  frame_node::constraints(q0_b).cwiseAbs().maxCoeff());
+  require(phi_int <= 1e-8,
+          "reference triads are not orthonormal (max |Phi_int| = " + std::to_string(phi_int) + ")");
+  const auto positive = [](const char* name, double v) {
+    require(v > 0.0, std::string(name) + " must be > 0, got " + std::to_string(v));
+  };
+  positive("EA", section.EA);
+  positive("GA1", section.GA1);
+  positive("GA2", section.GA2);
+  positive("EI1", section.EI1);
+  positive("EI2", section.EI2);
+  positive("GJ", section.GJ);
+  const auto non_negative = [](const char* name, double v) {
+    require(v >= 0.0, std::string(name) + " must be >= 0, got " + std::to_string(v));
+  };
+  non_negative("A_rho", section.A_rho);
+  non_negative("M_rho1", section.M_rho1);
+  non_negative("M_rho2", section.M_rho2);
+  require(gravity.allFinite(), "gravity must be finite");
+
+  // Strain forms (theory-notes, Betsch & Steinmann 2002), i = 1, 2, 3 ↔ field i:
+  //   Γ_i = d_i·φ′,   K_i = ½(d_k·d_j′ − d_j·d_k′) for (i, j, k) cyclic.
+  const Coeff8 phi_prime = derivative_of(0, L0_);
+  for (int i = 1; i <= 3; ++i) {
+    const int j = i % 3 + 1;
+    const int k = j % 3 + 1;
+    h_[i - 1] = bilinear(midpoint_of(i), phi_prime);
+    h_[i + 2] = 0.5 * (bilinear(midpoint_of(k), derivative_of(j, L0_)) -
+                       bilinear(midpoint_of(j), derivative_of(k, L0_)));
+  }
+  C_ << section.GA1, section.GA2, section.EA, section.EI1, section.EI2, section.GJ;
+
+  Q q0;
+  q0 << q0_a, q0_b;
+  e0_ = raw_strains(q0);
+}
+
+BeamElement::Q BeamElement::as_element_q(const VecX& q) {
+  if (q.size() != kCoords)
+    throw std::invalid_argument("BeamElement: expected 24 coordinates, got " +
+                                std::to_string(q.size()));
+  return q;
+}
+
+BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
+  // Gram matrix of the blocks: E_k = ½ ⟨h_k, QᵀQ⟩ with Q = [q_0 … q_7] (3 × 8).
+  const Eigen::Map<const Mat<3, 8>> blocks(q.data());
+  const Mat<8, 8> gram = blocks.transpose() * blocks;
+  Strain6 e;
+  for (int k = 0; k < 6; ++k) e(k) = 0.5 * h_[k].cwiseProduct(gram).sum();
+  return e;
+}
+
+Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
+  // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column.
+  const Eigen::Map<const Mat<3, 8>> blocks(q.data());
+  Mat<6, kCoords> B;
+  for (int k = 0; k < 6; ++k) {
+    const Mat<3, 8> row = blocks * h_[k];
+    B.row(k) = Eigen::Map<const Vec<kCoords>>(row.data()).transpose();
+  }
+  return B;
+}
+
+Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::weighted_strain_hessian(
+    const Strain6& S) const {
+  Block8 h = Block8::Zero();
+  for (int k = 0; k < 6; ++k) h += S(k) * h_[k];
+  Mat<kCoords, kCoords> H = Mat<kCoords, kCoords>::Zero();
+  for (int b = 0; b < 8; ++b)
+    for (int c = 0; c < 8; ++c) H.block<3, 3>(3 * b, 3 * c).diagonal().setConstant(h(b, c));
+  return H;
+}
+
+Vec<BeamElement::kCoords> BeamElement::gravity_gradient() const {
+  // V_g = −∫ A_ρ g·φ ds = −½ A_ρ L₀ g·(φ_a + φ_b) for linear shape functions.
+  Vec<kCoords> f = Vec<kCoords>::Zero();
+  f.segment<3>(0) = -0.5 * section_.A_rho * L0_ * g_;
+  f.segment<3>(12) = -0.5 * section_.A_rho * L0_ * g_;
+  return f;
+}
+
+double BeamElement::potential(const VecX& qx) const {
+  const Q q = as_element_q(qx);
+  const Strain6 e = raw_strains(q) - e0_;
+  // DNSM-III (69): W = ½ (Γᵀ C_Γ Γ + Kᵀ C_K K), one-point quadrature over L₀.
+  return 0.5 * L0_ * e.dot(C_.cwiseProduct(e)) + gravity_gradient().dot(q);
+}
+
+VecX BeamElement::gradient(const VecX& qx) const {
+  const Q q = as_element_q(qx);
+  const Strain6 S = C_.cwiseProduct(raw_strains(q) - e0_);  // (n, m), DNSM-III (69)
+  const Vec<kCoords> g = L0_ * strain_jacobian(q).transpose() * S + gravity_gradient();
+  return g;
+}
+
+Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::hessian(const VecX& qx) const {
+  const Q q = as_element_q(qx);
+  const Strain6 S = C_.cwiseProduct(raw_strains(q) - e0_);
+  const Mat<6, kCoords> B = strain_jacobian(q);
+  return L0_ * (B.transpose() * C_.asDiagonal() * B + weighted_strain_hessian(S));
+}
+
+VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_dqn1) const {
+  const Q qn = as_element_q(qnx);
+  const Q qn1 = as_element_q(qn1x);
+  const Q qm = 0.5 * (qn + qn1);
+  // Average strain Ē = ½(E(qₙ) + E(qₙ₊₁)), not E(q_{n+½}): with E quadratic,
+  // E(qₙ₊₁) − E(qₙ) = B(q_{n+½})(qₙ₊₁ − qₙ) exactly, so DV·Δq = ΔV (theory-notes, average strain).
+  const Strain6 e_avg = 0.5 * (raw_strains(qn) + raw_strains(qn1)) - e0_;
+  const Strain6 S = C_.cwiseProduct(e_avg);
+  const Mat<6, kCoords> Bm = strain_jacobian(qm);
+  const Vec<kCoords> dv = L0_ * Bm.transpose() * S + gravity_gradient();
+  if (dv_dqn1) {
+    // ∂/∂qₙ₊₁ [B(q_{n+½})ᵀ S̄] = ½ Σ_k S̄_k H_k + B(q_{n+½})ᵀ C ½ B(qₙ₊₁) — not symmetric.
+    const Mat<kCoords, kCoords> K =
+        0.5 * L0_ *
+        (weighted_strain_hessian(S) + Bm.transpose() * C_.asDiagonal() * strain_jacobian(qn1));
+    *dv_dqn1 = K;
+  }
+  return dv;
+}
+
+MatX BeamElement::mass() const {
+  // T = ½ ∫ (A_ρ|φ̇|² + M_ρ¹|ḋ₁|² + M_ρ²|ḋ₂|²) ds with ∫ N_a N_b ds = L₀/6 [[2, 1], [1, 2]]:
+  // M = (L₀/6 [[2, 1], [1, 2]]) ⊗ diag(A_ρ, M_ρ¹, M_ρ², 0) ⊗ I₃ (consistent, constant).
+  const Vec<4> rho(section_.A_rho, section_.M_rho1, section_.M_rho2, 0.0);
+  Mat<kCoords, kCoords> M = Mat<kCoords, kCoords>::Zero();
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      const double n_ab = L0_ / 6.0 * (a == b ? 2.0 : 1.0);
+      for (int f = 0; f < 4; ++f)
+        M.block<3, 3>(3 * block(a, f), 3 * block(b, f)).diagonal().setConstant(n_ab * rho(f));
+    }
+  return M;
+}
+
+BeamElement::Strains BeamElement::strains(const VecX& q) const {
+  const Strain6 e = raw_strains(as_element_q(q)) - e0_;
+  return {e.head<3>(), e.tail<3>()};
+}
+
+BeamElement::Resultants BeamElement::stress_resultants(const VecX& q) const {
+  const Strain6 S = C_.cwiseProduct(raw_strains(as_element_q(q)) - e0_);
+  return {S.head<3>(), S.tail<3>()};
+}
+
+}  // namespace isoflex::elements
