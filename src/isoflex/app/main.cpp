@@ -1,7 +1,9 @@
-// The `isoflex` command line: run, check, --version (README "A short tour").
+// The `isoflex` command line: run, check, cad-info, --version (README "A short tour").
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <iostream>
 
+#include "isoflex/app/cad_info.hpp"
 #include "isoflex/app/commands.hpp"
 
 int main(int argc, char** argv) {
@@ -23,6 +25,12 @@ int main(int argc, char** argv) {
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");
   c->add_option("MODEL", check_file, "model file (YAML)")->required();
 
+  std::string cad_file;
+  auto* ci = app.add_subcommand("cad-info",
+                                "print the NURBS patches of an IGES/STEP file and their "
+                                "analysis-suitability checks");
+  ci->add_option("FILE", cad_file, "CAD file (.igs, .iges, .stp, .step)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -32,5 +40,6 @@ int main(int argc, char** argv) {
   if (!formulation.empty()) run.formulation = isoflex::model::formulation_from_string(formulation);
   if (*r) return isoflex::app::run_command(run);
   if (*c) return isoflex::app::check_command(check_file);
+  if (*ci) return isoflex::app::cad_info_command(cad_file, std::cout, std::cerr);
   return 2;
 }

@@ -1,6 +1,7 @@
 #pragma once
-// B-spline and NURBS basis functions with derivatives (IGA-thesis (4.3)–(4.5)): all p+1
-// functions that are non-zero on a span, at once, without heap allocation.
+// B-spline basis functions with derivatives (Cox–de Boor, IGA-thesis (4.3); open knot vectors
+// (4.4)): all p+1 functions that are non-zero on a span, at once, without heap allocation. The
+// rational (NURBS) bases built on them are in nurbs_curve.hpp (4.9) and nurbs_surface.hpp (4.12).
 #include <Eigen/Core>
 
 #include "isoflex/geometry/knot_vector.hpp"
@@ -16,7 +17,10 @@ struct Basis1D {
   BasisTable ders;
 };
 
-// n_derivatives ≤ 2.
+// N_{span−p..span} and their derivatives up to order n_derivatives ∈ {0, 1, 2} (rows of ders;
+// derivatives of order > p are zero). span = kv.find_span(u); u outside [front, back] is clamped
+// to the domain like find_span does (no polynomial extrapolation). Throws std::invalid_argument
+// for n_derivatives outside [0, 2] or a NaN u.
 Basis1D bspline_basis(const KnotVector& kv, double u, int n_derivatives = 2);
 
 }  // namespace isoflex::geometry

@@ -1,8 +1,10 @@
 #include "isoflex/geometry/knot_vector.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace isoflex::geometry {
 
@@ -14,9 +16,14 @@ KnotVector::KnotVector(int degree, std::vector<double> knots)
   if (knots_.size() < 2 * static_cast<std::size_t>(p_ + 1))
     throw std::invalid_argument("knot vector: " + std::to_string(knots_.size()) +
                                 " knots are fewer than 2(p+1) = " + std::to_string(2 * (p_ + 1)));
+  for (std::size_t i = 0; i < knots_.size(); ++i)
+    if (!std::isfinite(knots_[i]))
+      throw std::invalid_argument("knot vector: knot " + std::to_string(i) + " is not finite");
   for (std::size_t i = 1; i < knots_.size(); ++i)
     if (knots_[i] < knots_[i - 1])
-      throw std::invalid_argument("knot vector: knot " + std::to_string(i) + " decreases");
+      throw std::invalid_argument("knot vector: knot " + std::to_string(i) + " = " +
+                                  std::to_string(knots_[i]) + " is smaller than knot " +
+                                  std::to_string(i - 1) + " = " + std::to_string(knots_[i - 1]));
   if (!(back() > front())) throw std::invalid_argument("knot vector: empty parameter domain");
 }
 
@@ -28,6 +35,8 @@ bool KnotVector::is_open() const {
 }
 
 int KnotVector::find_span(double u) const {
+  // A NaN would fail every comparison below and bisect to the out-of-range span n.
+  if (std::isnan(u)) throw std::invalid_argument("knot vector: find_span of NaN");
   const int n = n_basis();
   if (u >= knots_[n]) {
     // Last non-empty span (u = back() belongs to it).
@@ -66,6 +75,10 @@ std::vector<int> KnotVector::element_spans() const {
 
 KnotVector KnotVector::open_uniform(int degree, int n_spans) {
   if (n_spans < 1) throw std::invalid_argument("knot vector: need at least one span");
+  // Checked here too: a negative degree would otherwise size the vector below.
+  if (degree < 0 || degree > kMaxDegree)
+    throw std::invalid_argument("knot vector: degree " + std::to_string(degree) + " outside [0, " +
+                                std::to_string(kMaxDegree) + "]");
   std::vector<double> k(degree, 0.0);
   for (int i = 0; i <= n_spans; ++i) k.push_back(static_cast<double>(i) / n_spans);
   k.insert(k.end(), degree, 1.0);

@@ -9,8 +9,8 @@ namespace isoflex::geometry {
 class KnotVector {
  public:
   KnotVector() = default;
-  // Throws std::invalid_argument if the knots decrease, the degree is < 0 or > kMaxDegree, or
-  // there are fewer than 2(p+1) knots.
+  // Throws std::invalid_argument if a knot is not finite, the knots decrease, the degree is < 0
+  // or > kMaxDegree, there are fewer than 2(p+1) knots or the domain [front, back] is empty.
   KnotVector(int degree, std::vector<double> knots);
 
   int degree() const { return p_; }
@@ -20,7 +20,7 @@ class KnotVector {
   double back() const { return knots_[knots_.size() - p_ - 1]; }  // end of the domain
   bool is_open() const;
   // Span index s with knots[s] <= u < knots[s+1], p <= s <= n−1; u = back() gives the last
-  // non-empty span. u outside the domain is clamped.
+  // non-empty span. u outside the domain is clamped; NaN throws std::invalid_argument.
   int find_span(double u) const;
   // Distinct knots in [front, back] and their multiplicities.
   std::vector<double> breakpoints() const;

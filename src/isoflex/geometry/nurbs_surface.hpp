@@ -1,5 +1,6 @@
 #pragma once
-// Tensor-product NURBS surfaces (IGA-thesis (4.9)–(4.13)).
+// Tensor-product NURBS surfaces (IGA-thesis (4.12)–(4.13); the B-spline surface (4.8) is the case
+// of equal weights).
 // Control point (i, j), i along ξ (u), j along η (v), is stored at index i + n_u·j.
 #include <vector>
 
@@ -16,8 +17,11 @@ struct NurbsSurface {
   int n_u() const { return u.n_basis(); }
   int n_v() const { return v.n_basis(); }
   int index(int i, int j) const { return i + n_u() * j; }
+  int degree_u() const { return u.degree(); }
+  int degree_v() const { return v.degree(); }
   bool is_rational() const;  // some weight differs from the others
-  // Throws std::invalid_argument on inconsistent sizes or non-positive weights.
+  // Throws std::invalid_argument on inconsistent sizes, non-finite points or non-positive
+  // weights.
   void validate() const;
 };
 
@@ -36,6 +40,9 @@ struct SurfaceBasis {
   int global_index(const NurbsSurface& s, int k) const;
 };
 
+// Parameters outside the domain are clamped (see bspline_basis). Both throw
+// std::invalid_argument if the numbers of points or weights do not match the knot vectors;
+// weights are checked by validate() only (call it once where a surface enters).
 SurfaceBasis surface_basis(const NurbsSurface& s, double xi, double eta);
 SurfacePoint evaluate(const NurbsSurface& s, double xi, double eta);
 
