@@ -1,4 +1,4 @@
-// Basis-evaluation benchmark (see bench/README.md, "Basis evaluation"): throughput of
+// Basis-evaluation benchmark (see bench/basis.md): throughput of
 // geometry::surface_basis — all (p+1)(q+1) non-zero rational basis functions R with their first
 // and second derivatives at one point, IGA-thesis (4.3), (4.12) — for p = q = 2 … 5, against a
 // naive recursive Cox–de Boor evaluation written here, and against the machine's scalar

@@ -1,5 +1,5 @@
 // Chain benchmark: N slender rigid bodies linked by spherical joints, hanging from the ground,
-// swinging from an initially horizontal configuration under gravity (see bench/README.md).
+// swinging from an initially horizontal configuration under gravity (see bench/chain.md).
 //
 //   chain_bench [--n 10,100] [--steps 1000] [--formulations constrained,nullspace,reparametrized]
 //               [--cond] [--dt 0.01] [--csv FILE] [--max-seconds S]
