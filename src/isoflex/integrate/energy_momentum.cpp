@@ -35,8 +35,14 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
     throw std::invalid_argument(
         "the tree recursion needs the reparametrized formulation on a tree whose elements couple "
         "only tree neighbours");
-  bordered_ = !tree_ && possible &&
-              (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && sys.k() >= 48));
+  // 𝖯 has a block per (node, ancestor joint): few entries for shallow trees (a beam's nodes are
+  // roots of their own), O(N²) for a chain. The explicit form wins while 𝖯 stays sparse.
+  const auto dense_null_space = [&] {
+    return sys.k() >= 48 && sys.tree_null_space(sys.q0()).nonZeros() > 20 * sys.n();
+  };
+  bordered_ =
+      !tree_ && possible &&
+      (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && dense_null_space()));
 }
 
 int EnergyMomentumIntegrator::unknowns() const {

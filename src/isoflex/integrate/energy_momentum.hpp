@@ -51,7 +51,8 @@ struct StepStats {
 // The reparametrized system on a tree whose elements couple only tree neighbours is solved by an
 // O(N) recursion over the tree instead (system/tree_newton_solver.hpp).
 // Automatic: the tree recursion where it applies (reparametrized), else bordered for trees
-// without loop-closing rows and k ≥ 48, else explicit.
+// without loop-closing rows, k ≥ 48 and a dense 𝖯 (more than 20 n entries: deep trees such as
+// chains), else explicit.
 enum class ReducedSolve { automatic, explicit_null_space, bordered, tree };
 
 class EnergyMomentumIntegrator {
