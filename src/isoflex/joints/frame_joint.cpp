@@ -235,7 +235,9 @@ FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Q& qb_n,
     Rb = rodrigues(tau(0) * a3) * QA * Rb_n;
     k = 1;
   } else {
-    Rb = QA * Rb_n;
+    // Rotation locked: R_B = R_A C_A C_Bᵀ (the joint frames coincide) rather than Q_A R_B,n, so
+    // that the round-off of the orthonormality (20) does not accumulate step after step.
+    Rb = fn::directors(qa_n1) * (g_.C_A * g_.C_B.transpose());
   }
   Mat3 a_n1;
   for (int i = 0; i < 3; ++i) a_n1.col(i) = body_vector(qa_n1, g_.C_A.col(i));
