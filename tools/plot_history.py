@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Plot an isoflex history.csv: energy, momentum and constraint/Newton diagnostics.
 
-usage: plot_history.py HISTORY_CSV [-o OUTDIR]
+usage: plot_history.py HISTORY_CSV [-o OUTDIR] [--reference-time T]
 
 Writes energy.png, momentum.png and constraints.png to OUTDIR (default: the directory of
-HISTORY_CSV). Needs only python3 and matplotlib. Exit status 2 for a missing file or columns.
+HISTORY_CSV). With --reference-time T the energy drift is taken relative to E(T) and shown for
+t >= T (for runs whose loads act until T). Needs only python3 and matplotlib. Exit status 2 for a
+missing file or columns or a reference time after the last step.
 """
 import argparse
 import csv
@@ -61,24 +63,50 @@ def read_columns(path):
     return columns
 
 
-def plot_energy(c, out):
+def reference_index(t, t_ref):
+    """The first row at or after t_ref (allowing for round-off in the accumulated time)."""
+    tolerance = 1e-9 * max(1.0, abs(t_ref))
+    for i, ti in enumerate(t):
+        if ti >= t_ref - tolerance:
+            return i
+    fail(f"--reference-time {t_ref:g} is after the last time {t[-1]:g}")
+
+
+def plot_energy(c, out, t_ref=None):
     t = c["t"]
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5))
     ax1.plot(t, c["kinetic_energy"], label="kinetic")
-    ax1.plot(t, c["potential_energy"], label="potential")
+    ax1.plot(t, c["potential_energy"],
+             label="potential" if t_ref is None else "potential (strain + gravity)")
     ax1.plot(t, c["total_energy"], label="total", color="k")
     ax1.set_ylabel("energy")
     ax1.legend(loc="best")
     ax1.grid(True, alpha=0.3)
-    e0 = c["total_energy"][0]
-    scale = abs(e0)
-    if scale > 0.0:
-        drift = [(e - e0) / scale for e in c["total_energy"]]
-        ax2.set_ylabel("(E − E₀) / |E₀|")
+    if t_ref is None:
+        e0 = c["total_energy"][0]
+        scale = abs(e0)
+        if scale > 0.0:
+            drift = [(e - e0) / scale for e in c["total_energy"]]
+            ax2.set_ylabel("(E − E₀) / |E₀|")
+        else:
+            drift = [e - e0 for e in c["total_energy"]]
+            ax2.set_ylabel("E − E₀  (E₀ = 0)")
+        ax2.plot(t, drift, color="k")
     else:
-        drift = [e - e0 for e in c["total_energy"]]
-        ax2.set_ylabel("E − E₀  (E₀ = 0)")
-    ax2.plot(t, drift, color="k")
+        i = reference_index(t, t_ref)
+        e_ref = c["total_energy"][i]
+        scale = abs(e_ref)
+        if scale > 0.0:
+            drift = [(e - e_ref) / scale for e in c["total_energy"][i:]]
+            ax2.set_ylabel("(E − E(T)) / |E(T)|")
+        else:
+            drift = [e - e_ref for e in c["total_energy"][i:]]
+            ax2.set_ylabel("E − E(T)  (E(T) = 0)")
+        ax2.plot(t[i:], drift, color="k", label="t ≥ T")
+        for ax in (ax1, ax2):
+            ax.axvline(t[i], color="0.5", ls=":", lw=1.0)
+        ax2.plot([], [], color="0.5", ls=":", lw=1.0, label=f"T = {t[i]:g}")
+        ax2.legend(loc="best")
     ax2.set_xlabel("t")
     ax2.grid(True, alpha=0.3)
     fig.suptitle("Energy")
@@ -136,15 +164,25 @@ def main(argv=None):
     parser.add_argument("history", metavar="HISTORY_CSV", help="history.csv written by isoflex")
     parser.add_argument("-o", "--outdir", help="directory for the PNG files (default: next to "
                         "HISTORY_CSV)")
+    parser.add_argument("--reference-time", type=float, metavar="T",
+                        help="show the energy drift (E − E(T))/|E(T)| for t >= T, e.g. the time "
+                        "at which the loads stop")
     args = parser.parse_args(argv)
+    if args.reference_time is not None and not math.isfinite(args.reference_time):
+        fail(f"--reference-time must be a finite number, not {args.reference_time}")
     columns = read_columns(args.history)
+    if args.reference_time is not None:
+        reference_index(columns["t"], args.reference_time)  # fails before anything is written
     outdir = args.outdir or os.path.dirname(os.path.abspath(args.history))
     os.makedirs(outdir, exist_ok=True)
     written = []
     for name, plot in (("energy.png", plot_energy), ("momentum.png", plot_momentum),
                        ("constraints.png", plot_constraints)):
         path = os.path.join(outdir, name)
-        plot(columns, path)
+        if plot is plot_energy:
+            plot(columns, path, args.reference_time)
+        else:
+            plot(columns, path)
         written.append(path)
     for path in written:
         print(path)
