@@ -1,6 +1,7 @@
 // `isoflex cad-info`: app::cad_info_command on the shared CAD files, and the executable end to end.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -74,7 +75,9 @@ TEST(CadInfo, MissingFileIsExitCode2WithOneLine) {
 
 // Runs `isoflex ARGS`, keeping stdout and stderr apart (stderr through a temporary file).
 Output run(const std::string& args) {
-  const std::string err_file = ::testing::TempDir() + "isoflex_cad_info_stderr.txt";
+  // One file per process: ctest runs the tests of this suite in parallel processes.
+  const std::string err_file =
+      ::testing::TempDir() + "isoflex_cad_info_stderr_" + std::to_string(::getpid()) + ".txt";
   const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>" + err_file;
   Output r{-1, {}, {}};
   FILE* p = popen(cmd.c_str(), "r");

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 namespace fs = std::filesystem;
 
@@ -136,6 +137,56 @@ TEST(Cli, BadModelsGiveLocatedErrorsAndExitCode2) {
   EXPECT_NE(missing.out.find("cannot open model file"), std::string::npos);
   EXPECT_EQ(run("run").code, 2);
   EXPECT_EQ(run("run " + f + " --formulation fancy").code, 2);
+}
+
+// `check` lists the model's surfaces with their findings; a bad surface is a located error, exit 2.
+TEST(Cli, CheckListsSurfacesAndRejectsBadOnes) {
+  const fs::path d = temp_dir("surfaces");
+  fs::copy_file(
+      std::string(ISOFLEX_SOURCE_DIR) + "/tests/data/cad/l_angle_plate_2patch_L10_b1_b3_deg1.igs",
+      d / "plate.igs");
+  const std::string surfaces = std::string(kGood) + R"(surfaces:
+  - name: web
+    cad: {file: plate.igs, patch: 1}
+  - name: roof
+    builtin: {type: cylinder_sector, radius: 1, length: 2, angle: 90}
+    refine: {elevate: [1, 1], knots_per_span: [3, 3]}
+)";
+  std::ofstream(d / "m.yaml") << surfaces;
+  const auto r = run("check " + (d / "m.yaml").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("surface          web: cad \"plate.igs\" patch 1 \"patch 1\"; degrees 1 x "
+                       "1, control points 2 x 2 = 4, elements 1 x 1 = 1\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("  warning        degree 1 in u"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("                 fix: elevate the degree in u"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("surface          roof: builtin cylinder_sector; degrees 3 x 2, control "
+                       "points 7 x 6 = 42, elements 4 x 4 = 16 (refined: elevate [1, 1], knots "
+                       "per span [3, 3])\n"),
+            std::string::npos)
+      << r.out;
+
+  const std::string f = (d / "bad.yaml").string();
+  for (const auto& [from, to, expected] :
+       {std::tuple<std::string, std::string, std::string>{
+            "patch: 1", "patch: 7",
+            ":15: surfaces[0].cad.patch: patch 7 out of range: \"plate.igs\" holds 2 patches (0 "
+            "… 1)"},
+        {"plate.igs", "missing.igs",
+         ":15: surfaces[0].cad.file: cannot read CAD file \"" + (d / "missing.igs").string() +
+             "\": no such file"},
+        {"cylinder_sector", "cone", ":17: surfaces[1].builtin.type: unknown builtin type"}}) {
+    std::ofstream(f) << with(surfaces, from, to);
+    const auto k = run("check " + f);
+    EXPECT_EQ(k.code, 2) << k.out;
+    EXPECT_NE(k.out.find("error: " + f + expected), std::string::npos) << k.out;
+    EXPECT_EQ(k.out.find("surface "), std::string::npos) << k.out;
+    const auto r2 = run("run " + f + " -o " + (d / "out").string());
+    EXPECT_EQ(r2.code, 2) << r2.out;
+    EXPECT_FALSE(fs::exists(d / "out")) << "nothing is written for a bad model";
+  }
 }
 
 // A Newton failure stops the run with the step and residual, keeps the results so far, exit 3.

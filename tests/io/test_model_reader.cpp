@@ -305,7 +305,7 @@ TEST(ModelReader, UnknownKey) {
             "residual_tolerance, increment_tolerance, max_iterations)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
-            "bodies, beams, joints, loads, distributed_loads, probes)");
+            "bodies, beams, joints, loads, distributed_loads, probes, surfaces)");
   EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, size: [1, 1, 1]}"})),
             "m.yaml:6: bodies[0].shape.size: unknown key (valid keys: type, radius, offset)");
   EXPECT_EQ(error_of(with_bodies({"gravity: [0, 0, 0]", "gravity: [0, 0, 1]"})),
@@ -714,7 +714,14 @@ TEST(ModelReader, BeamErrors) {
   // unknown keys
   EXPECT_EQ(error_of(with_beam({"    radius: 1"})),
             "m.yaml:7: beams[0].radius: unknown key (valid keys: name, points, elements, d1, "
-            "section)");
+            "section, draw)");
+  // drawing size
+  EXPECT_EQ(error_of(with_beam({"    draw: {width: 0.1}"})),
+            "m.yaml:7: beams[0].draw.height: missing required key");
+  EXPECT_EQ(error_of(with_beam({"    draw: {width: 0.1, height: -1}"})),
+            "m.yaml:7: beams[0].draw.height: must be > 0, got -1");
+  EXPECT_EQ(error_of(with_beam({"    draw: {width: 0.1, height: 0.1, depth: 1}"})),
+            "m.yaml:7: beams[0].draw.depth: unknown key (valid keys: width, height)");
   // points
   EXPECT_EQ(error_of(beam({"  - name: b", "    points: [[0, 0, 0]]"})),
             "m.yaml:3: beams[0].points: expected a list of at least 2 points [[x, y, z], [x, y, "

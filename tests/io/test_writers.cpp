@@ -17,6 +17,7 @@
 #include "isoflex/io/history_writer.hpp"
 #include "isoflex/io/summary_writer.hpp"
 #include "isoflex/io/vtk_writer.hpp"
+#include "isoflex/math/rotation.hpp"
 
 namespace fs = std::filesystem;
 using namespace isoflex;
@@ -338,6 +339,34 @@ TEST(VtkWriter, PyramidApexAndVelocityInRotatedPose) {
   for (int k = 0; k < 3; ++k) {
     EXPECT_LT(min_distance(v.points, pose.position + len * R.col(k)), 1e-12);
   }
+}
+
+// A beam element is drawn as a hexahedron with positive volume in VTK's vertex order (bottom face
+// at node a counter-clockwise about d₃, top face at node b), corners φ ± w/2 d₁ ± h/2 d₂.
+TEST(VtkWriter, BeamElementHexahedron) {
+  integrate::BodyPose a, b;
+  const Mat3 R = rodrigues(Vec3(0.3, -0.4, 0.2));
+  a.directors = R;
+  b.directors = rodrigues(Vec3(0.0, 0.1, 0.0)) * R;  // bent and twisted
+  a.position = Vec3(1, 2, 3);
+  b.position = a.position + 0.7 * R.col(2);
+  a.velocity = Vec3(1, 0, 0);
+  a.angular_velocity = Vec3(0, 0, 2);
+  const io::BodyMesh m = io::beam_element_mesh(a, b, {0.2, 0.1});
+  ASSERT_EQ(m.points.size(), 8u);
+  ASSERT_EQ(m.types, std::vector<unsigned char>{io::kVtkHexahedron});
+  EXPECT_EQ(m.offsets, std::vector<int>{8});
+  EXPECT_EQ(m.parts, std::vector<int>{io::kBeamPart});
+  const Vec3 p1 = m.points[1] - m.points[0], p3 = m.points[3] - m.points[0],
+             p4 = m.points[4] - m.points[0];
+  EXPECT_GT(p1.cross(p3).dot(p4), 0.0);
+  EXPECT_LT((m.points[2] - (a.position + 0.1 * R.col(0) + 0.05 * R.col(1))).norm(), 1e-15);
+  EXPECT_LT(
+      (m.points[4] - (b.position - 0.1 * b.directors.col(0) - 0.05 * b.directors.col(1))).norm(),
+      1e-15);
+  EXPECT_LT(
+      (m.velocities[2] - (a.velocity + a.angular_velocity.cross(m.points[2] - a.position))).norm(),
+      1e-15);
 }
 
 TEST(VtkWriter, ShapeMeshesOfAllKindsAreClosedAndOriented) {

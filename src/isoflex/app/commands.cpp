@@ -77,6 +77,30 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
     for (const auto& b : sys.beams()) elements += b.elements.size();
     fmt::print(out, "beams            {} ({} elements)\n", sys.beams().size(), elements);
   }
+  // Surfaces (for shells): source, size after refinement, suitability findings.
+  for (const model::Surface& s : l->model.surfaces) {
+    const geometry::NurbsSurface& g = s.surface;
+    const auto nu = g.u.element_spans().size(), nv = g.v.element_spans().size();
+    const bool refined = s.refine.elevate != std::array<int, 2>{0, 0} ||
+                         s.refine.knots_per_span != std::array<int, 2>{0, 0};
+    fmt::print(
+        out,
+        "surface          {}: {}; degrees {} x {}, control points {} x {} = {}, elements {} "
+        "x {} = {}{}\n",
+        s.name,
+        s.kind == model::SurfaceSourceKind::cad
+            ? fmt::format("cad \"{}\" patch {} \"{}\"", s.cad_file, s.cad_patch, s.cad_patch_name)
+            : "builtin " + s.builtin_type,
+        g.degree_u(), g.degree_v(), g.n_u(), g.n_v(), g.n_u() * g.n_v(), nu, nv, nu * nv,
+        refined ? fmt::format(" (refined: elevate [{}, {}], knots per span [{}, {}])",
+                              s.refine.elevate[0], s.refine.elevate[1], s.refine.knots_per_span[0],
+                              s.refine.knots_per_span[1])
+                : "");
+    for (const model::SurfaceFinding& f : s.findings) {
+      fmt::print(out, "  {:<14} {}\n", f.severity, f.issue);
+      fmt::print(out, "  {:<14} fix: {}\n", "", f.fix);
+    }
+  }
   fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoflex/io/surface_reader.hpp"
 #include "isoflex/loads/time_function.hpp"
 
 namespace isoflex::io {
@@ -90,7 +91,7 @@ class Reader {
     expect_map(root, "");
     check_keys(root, "",
                {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
-                "distributed_loads", "probes"});
+                "distributed_loads", "probes", "surfaces"});
     Model m;
     m.file = file_;
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -126,6 +127,7 @@ class Reader {
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i)));
+    m.surfaces = read_surfaces(root["surfaces"], file_);  // surface_reader.cpp
     return m;
   }
 
@@ -434,7 +436,7 @@ class Reader {
 
   model::Beam read_beam(const YAML::Node& n, const std::string& p) {
     expect_map(n, p);
-    check_keys(n, p, {"name", "points", "elements", "d1", "section"});
+    check_keys(n, p, {"name", "points", "elements", "d1", "section", "draw"});
     model::Beam b;
     b.source = source(n);
 
@@ -507,6 +509,13 @@ class Reader {
     }
 
     b.section = read_section(require(n, p, "section"), join(p, "section"));
+    if (const auto v = n["draw"]) {
+      const std::string dp = join(p, "draw");
+      expect_map(v, dp);
+      check_keys(v, dp, {"width", "height"});
+      b.draw_width = positive(require(v, dp, "width"), join(dp, "width"));
+      b.draw_height = positive(require(v, dp, "height"), join(dp, "height"));
+    }
     beams_.emplace(b.name, BeamInfo{line_of(name), b.node_count()});
     return b;
   }

@@ -193,11 +193,38 @@ BodyMesh body_mesh(const model::Shape& shape, const integrate::BodyPose& pose) {
   return m.finish(pose);
 }
 
+BodyMesh beam_element_mesh(const integrate::BodyPose& a, const integrate::BodyPose& b,
+                           const std::array<double, 2>& section) {
+  BodyMesh m;
+  // Bottom face at node a, top face at node b, each (−,−), (+,−), (+,+), (−,+) in (d₁, d₂):
+  // counter-clockwise about d₃, the VTK hexahedron's order.
+  for (const auto* node : {&a, &b}) {
+    for (const auto& [s1, s2] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+      const Vec3 r = 0.5 * (s1 * section[0] * node->directors.col(0) +
+                            s2 * section[1] * node->directors.col(1));
+      m.points.push_back(node->position + r);
+      m.velocities.push_back(node->velocity + node->angular_velocity.cross(r));
+    }
+  }
+  m.connectivity = {0, 1, 2, 3, 4, 5, 6, 7};
+  m.offsets = {8};
+  m.types = {kVtkHexahedron};
+  m.parts = {kBeamPart};
+  return m;
+}
+
 VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model,
                                  int every)
     : outdir_(outdir), every_(every) {
   shapes_.reserve(model.bodies.size());
   for (const auto& b : model.bodies) shapes_.push_back(b.shape);
+  for (const auto& b : model.beams) {
+    double length = 0.0;
+    for (std::size_t k = 1; k < b.points.size(); ++k)
+      length += (b.points[k] - b.points[k - 1]).norm();
+    beam_sections_[b.name] = {b.draw_width > 0 ? b.draw_width : length / 50,
+                              b.draw_height > 0 ? b.draw_height : length / 50};
+  }
   if (every_ <= 0) return;
   std::error_code ec;
   std::filesystem::create_directories(outdir_ / "vtk", ec);
@@ -236,7 +263,7 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     throw std::runtime_error(fmt::format("VTK output: snapshot has {} nodes, the model {} bodies",
                                          s.bodies.size(), shapes_.size()));
   }
-  // Bodies (id = body index), then one line cell per beam element (id −1, part 4) carrying the
+  // Bodies (id = body index), then one hexahedron per beam element (id −1, part 4) carrying the
   // element's stress resultants.
   std::vector<BodyMesh> meshes;
   std::vector<int> ids;
@@ -251,14 +278,7 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
   for (const auto& e : s.beam_elements) {
     const auto& a = s.bodies.at(e.node_a);
     const auto& b = s.bodies.at(e.node_b);
-    BodyMesh m;
-    m.points = {a.position, b.position};
-    m.velocities = {a.velocity, b.velocity};
-    m.connectivity = {0, 1};
-    m.offsets = {2};
-    m.types = {kVtkLine};
-    m.parts = {kBeamPart};
-    meshes.push_back(std::move(m));
+    meshes.push_back(beam_element_mesh(a, b, beam_sections_.at(e.beam)));
     ids.push_back(-1);
     resultants.emplace_back(e.n, e.m);
   }

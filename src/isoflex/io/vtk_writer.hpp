@@ -6,14 +6,18 @@
 //
 // Each .vtu holds, per body, its drawing shape as surface cells in the current pose
 // x = φ + R·X (R = [d₁ d₂ d₃]) and the director triad as three line cells from φ.
-// Each beam element is one line cell between its nodes.
+// Each beam element is one hexahedron between the cross-sections of its nodes (width and height
+// along d₁, d₂ from the beam's `draw` key, default 1/50 of its length): shear, bending and twist
+// show.
 //   cell data:  body_id (Int32, index into model.bodies; −1 for beam elements), part (Int32:
 //               0 shape, 1/2/3 = d₁/d₂/d₃, 4 beam element), n and m (Float64 × 3: the beam
 //               element's stress resultants in director components, DNSM-III (69); 0 for bodies)
 //   point data: velocity (Float64 × 3) = φ̇ + ω × (x − φ)
 //   field data: TimeValue (Float64, the snapshot time; ParaView shows it as the time)
+#include <array>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +43,7 @@ inline constexpr unsigned char kVtkLine = 3;
 inline constexpr unsigned char kVtkTriangle = 5;
 inline constexpr unsigned char kVtkPolygon = 7;
 inline constexpr unsigned char kVtkQuad = 9;
+inline constexpr unsigned char kVtkHexahedron = 12;
 
 // Segments around the circumference of cylinders and spheres, rings of a sphere (pole to pole).
 inline constexpr int kRoundSegments = 24;
@@ -50,6 +55,11 @@ double director_length(const model::Shape& shape);
 
 // The shape (in body coordinates, see model::Shape) and the director triad of one body at `pose`.
 BodyMesh body_mesh(const model::Shape& shape, const integrate::BodyPose& pose);
+
+// One beam element as a hexahedron from the cross-section at node a to the one at node b;
+// section = (width along d₁, height along d₂).
+BodyMesh beam_element_mesh(const integrate::BodyPose& a, const integrate::BodyPose& b,
+                           const std::array<double, 2>& section);
 
 class VtkSeriesWriter : public integrate::Observer {
  public:
@@ -72,6 +82,7 @@ class VtkSeriesWriter : public integrate::Observer {
 
   std::filesystem::path outdir_;
   std::vector<model::Shape> shapes_;
+  std::map<std::string, std::array<double, 2>> beam_sections_;  // drawn width, height per beam
   int every_;
   std::vector<std::string> files_;
   std::string pvd_entries_;  // the <DataSet .../> lines so far

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::model {
@@ -108,6 +109,8 @@ struct Beam {
   std::vector<int> elements;  // elements per segment (points.size() − 1 entries, each ≥ 1)
   Vec3 d1 = Vec3::UnitZ();    // direction of the director d₁ (made orthogonal to each segment)
   BeamSection section;
+  // Cross-section of the cuboids drawn in the VTK output, along d₁ and d₂; 0: 1/50 of the length.
+  double draw_width = 0, draw_height = 0;
   Source source;
 
   int node_count() const {
@@ -132,6 +135,55 @@ struct Probe {
   std::optional<Vec3> point;        // global at t = 0
   std::optional<Vec3> point_local;  // body coordinates
   Source source;
+};
+
+// --- Surfaces (NURBS geometry for shells, referenced by name) --------------------------------
+
+enum class SurfaceSourceKind { cad, builtin };
+
+// k-refinement of a surface (IGA-thesis §4.2.2): the degree is first raised by elevate[d], then
+// knots_per_span[d] knots are inserted uniformly into every non-empty knot span; d = 0 is u (ξ),
+// d = 1 is v (η).
+struct SurfaceRefinement {
+  std::array<int, 2> elevate = {0, 0};
+  std::array<int, 2> knots_per_span = {0, 0};
+};
+
+// A finding of the analysis-suitability checks (docs/cad-import.md "Checks") on the final
+// (refined, placed) surface; findings of severity "error" are rejected when the file is read.
+struct SurfaceFinding {
+  std::string severity;  // "info" or "warning"
+  std::string issue;
+  std::string fix;
+};
+
+// A named NURBS surface (`surfaces` in the model file): a patch of a CAD file or a built-in
+// shape, refined and placed. `surface` is the final geometry that shells will use.
+struct Surface {
+  std::string name;
+  SurfaceSourceKind kind = SurfaceSourceKind::builtin;
+  // cad: the file as written in the model file and as opened (resolved against the model file's
+  // directory), the patch's index and name in the file, and what the file says about the face.
+  std::string cad_file;
+  std::string cad_path;
+  int cad_patch = 0;
+  std::string cad_patch_name;
+  bool trimmed = false;               // trimming ignored: `surface` is the untrimmed patch
+  bool reversed_orientation = false;  // the face's normal is −(x_u × x_v)
+  // builtin: rectangle, cylinder_sector, sphere_sector, hemisphere or disc.
+  std::string builtin_type;
+  SurfaceRefinement refine;
+  // Placement x ↦ origin + orientation · x, applied after refinement (identity by default).
+  Vec3 origin = Vec3::Zero();
+  Mat3 orientation = Mat3::Identity();
+  geometry::NurbsSurface surface;
+  std::vector<SurfaceFinding> findings;
+  Source source;
+
+  // Non-empty knot spans in u times those in v.
+  int element_count() const {
+    return static_cast<int>(surface.u.element_spans().size() * surface.v.element_spans().size());
+  }
 };
 
 enum class Formulation { constrained, nullspace, reparametrized };
@@ -160,6 +212,7 @@ struct Model {
   std::vector<Load> loads;
   std::vector<DistributedLoad> distributed_loads;
   std::vector<Probe> probes;
+  std::vector<Surface> surfaces;
   Solver solver;
   Output output;
 };
