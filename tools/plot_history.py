@@ -9,7 +9,6 @@ t >= T (for runs whose loads act until T). Needs only python3 and matplotlib. Ex
 missing file or columns or a reference time after the last step.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -20,45 +19,23 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
+from isoflex_csv import fail, numbers, rows  # noqa: E402
+
 REQUIRED = [
     "t", "kinetic_energy", "potential_energy", "total_energy", "px", "py", "pz", "Lx", "Ly", "Lz",
     "constraint_violation", "newton_iterations",
 ]
 
 
-def fail(message):
-    print(f"plot_history.py: error: {message}", file=sys.stderr)
-    sys.exit(2)
-
-
 def read_columns(path):
     """The columns of a CSV file as lists of floats, keyed by header name."""
-    if not os.path.isfile(path):
-        fail(f"no such file: {path}")
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        try:
-            header = [name.strip() for name in next(reader)]
-        except StopIteration:
-            fail(f"{path} is empty")
-        missing = [name for name in REQUIRED if name not in header]
-        if missing:
-            fail(f"{path} lacks column(s): {', '.join(missing)}")
-        columns = {name: [] for name in header}
-        for line_no, row in enumerate(reader, start=2):
-            if not row:
-                continue
-            if len(row) < len(header):  # a row cut short by an interrupted run
-                print(f"plot_history.py: warning: {path}:{line_no}: incomplete row ignored",
-                      file=sys.stderr)
-                continue
-            try:
-                values = [float(v) for v in row[:len(header)]]
-            except ValueError:
-                fail(f"{path}:{line_no}: not a number in {row!r}")
-            for name, v in zip(header, values):
-                columns[name].append(v)
-    if not columns["t"]:
+    columns = None
+    for line_no, row in rows(path, REQUIRED):
+        if columns is None:
+            columns = {name: [] for name in row}
+        for name, v in numbers(path, line_no, row, row.keys()).items():
+            columns[name].append(v)
+    if not columns:
         fail(f"{path} has no data rows")
     return columns
 

@@ -10,7 +10,6 @@ probes.csv). Needs only python3 and matplotlib. Exit status 2 for a missing file
 unknown probe.
 """
 import argparse
-import csv
 import os
 import re
 import sys
@@ -20,44 +19,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from isoflex_csv import fail, numbers, rows  # noqa: E402
+
 REQUIRED = ["t", "probe", "x", "y", "z"]
 AXES = ("x", "y", "z")
 
 
-def fail(message):
-    print(f"plot_probes.py: error: {message}", file=sys.stderr)
-    sys.exit(2)
-
-
 def read_probes(path):
     """{probe name: {"t": [...], "x": [...], "y": [...], "z": [...]}}, in the order of the file."""
-    if not os.path.isfile(path):
-        fail(f"no such file: {path}")
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        try:
-            header = [name.strip() for name in next(reader)]
-        except StopIteration:
-            fail(f"{path} is empty")
-        missing = [name for name in REQUIRED if name not in header]
-        if missing:
-            fail(f"{path} lacks column(s): {', '.join(missing)}")
-        col = {name: header.index(name) for name in REQUIRED}
-        probes = {}
-        for line_no, row in enumerate(reader, start=2):
-            if not row:
-                continue
-            if len(row) < len(header):  # a row cut short by an interrupted run
-                print(f"plot_probes.py: warning: {path}:{line_no}: incomplete row ignored",
-                      file=sys.stderr)
-                continue
-            try:
-                values = {name: float(row[col[name]]) for name in ("t",) + AXES}
-            except ValueError:
-                fail(f"{path}:{line_no}: not a number in {row!r}")
-            series = probes.setdefault(row[col["probe"]].strip(), {n: [] for n in ("t",) + AXES})
-            for name, v in values.items():
-                series[name].append(v)
+    probes = {}
+    for line_no, row in rows(path, REQUIRED):
+        values = numbers(path, line_no, row, ("t",) + AXES)
+        series = probes.setdefault(row["probe"], {n: [] for n in ("t",) + AXES})
+        for name, v in values.items():
+            series[name].append(v)
     if not probes:
         fail(f"{path} has no data rows")
     return probes

@@ -10,7 +10,6 @@ the beam. Needs only python3 and matplotlib. Exit status 2 for a missing file or
 or unknown --element.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -20,14 +19,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from isoflex_csv import fail, numbers, rows  # noqa: E402
+
 COMPONENTS = ["n1", "n2", "n3", "m1", "m2", "m3"]
 REQUIRED = ["t", "beam", "element"] + COMPONENTS
 SUBSCRIPT = {"1": "₁", "2": "₂", "3": "₃"}
-
-
-def fail(message):
-    print(f"plot_resultants.py: error: {message}", file=sys.stderr)
-    sys.exit(2)
 
 
 def parse_element(text):
@@ -41,37 +37,15 @@ def parse_element(text):
 def read_resultants(path, wanted):
     """The series of the wanted (beam, index) elements, {key: {"t": [...], "n1": [...], ...}},
     and the element indices of every beam in the file, {beam: set of indices}."""
-    if not os.path.isfile(path):
-        fail(f"no such file: {path}")
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        try:
-            header = [name.strip() for name in next(reader)]
-        except StopIteration:
-            fail(f"{path} is empty")
-        missing = [name for name in REQUIRED if name not in header]
-        if missing:
-            fail(f"{path} lacks column(s): {', '.join(missing)}")
-        col = {name: header.index(name) for name in REQUIRED}
-        series = {key: {name: [] for name in ["t"] + COMPONENTS} for key in wanted}
-        beams = {}
-        for line_no, row in enumerate(reader, start=2):
-            if not row:
-                continue
-            if len(row) < len(header):  # a row cut short by an interrupted run
-                print(f"plot_resultants.py: warning: {path}:{line_no}: incomplete row ignored",
-                      file=sys.stderr)
-                continue
-            beam = row[col["beam"]].strip()
-            try:
-                key = (beam, int(row[col["element"]]))
-                values = {name: float(row[col[name]]) for name in ["t"] + COMPONENTS}
-            except ValueError:
-                fail(f"{path}:{line_no}: not a number in {row!r}")
-            beams.setdefault(beam, set()).add(key[1])
-            if key in series:
-                for name, v in values.items():
-                    series[key][name].append(v)
+    series = {key: {name: [] for name in ["t"] + COMPONENTS} for key in wanted}
+    beams = {}
+    for line_no, row in rows(path, REQUIRED):
+        values = numbers(path, line_no, row, ["t", "element"] + COMPONENTS)
+        key = (row["beam"], int(values.pop("element")))
+        beams.setdefault(key[0], set()).add(key[1])
+        if key in series:
+            for name, v in values.items():
+                series[key][name].append(v)
     if not beams:
         fail(f"{path} has no data rows")
     return series, beams
