@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -201,4 +202,30 @@ TEST(Cli, NewtonFailureKeepsResultsAndSaysWhere) {
       << r.out;
   EXPECT_NE(read(d / "out/summary.json").find("\"status\": \"failed\""), std::string::npos);
   EXPECT_TRUE(fs::exists(d / "out/history.csv"));
+}
+
+// The plot scripts read what a run writes (history.csv, probes.csv, resultants.csv) and write
+// their PNGs; bad input gives exit code 2.
+TEST(Cli, PlotScriptsReadTheOutputs) {
+  const fs::path d = temp_dir("plots");
+  const std::string model = ISOFLEX_SOURCE_DIR "/examples/slider_crank_flexible/model.yaml";
+  ASSERT_EQ(run("run " + model + " --t-end 0.05 -o " + d.string()).code, 0);
+  const std::string tools = ISOFLEX_SOURCE_DIR "/tools/";
+  const auto script = [&](const std::string& args) {
+    const std::string cmd = "/usr/bin/python3 " + tools + args + " > /dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(script("plot_history.py " + (d / "history.csv").string() + " --reference-time 0.02"),
+            0);
+  EXPECT_EQ(script("plot_probes.py " + d.string() + " --probe connection"), 0);
+  EXPECT_EQ(script("plot_resultants.py " + d.string() + " --element crank:10"), 0);
+  for (const char* png :
+       {"energy.png", "momentum.png", "constraints.png", "probe_connection.png",
+        "probe_connection_components.png", "resultants.png", "resultants_norm.png"})
+    EXPECT_GT(fs::file_size(d / png), 1000u) << png;
+  EXPECT_EQ(script("plot_probes.py " + d.string() + " --probe no_such_probe"), 2);
+  EXPECT_EQ(script("plot_resultants.py " + d.string() + " --element crank:99"), 2);
+  EXPECT_EQ(script("plot_history.py " + (d / "missing.csv").string()), 2);
+  fs::remove_all(d);
 }
