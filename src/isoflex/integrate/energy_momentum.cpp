@@ -43,6 +43,14 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
   bordered_ =
       !tree_ && possible &&
       (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && dense_null_space()));
+  if (settings.formulation == F::reparametrized && !tree_ && !bordered_ &&
+      (how == ReducedSolve::blocks || how == ReducedSolve::automatic) &&
+      ReducedNewtonMatrix::applicable(sys))
+    blocks_.emplace(sys);
+  if (how == ReducedSolve::blocks && !blocks_)
+    throw std::invalid_argument(
+        "the block assembly needs the reparametrized formulation on a forest without "
+        "loop-closing rows");
 }
 
 int EnergyMomentumIntegrator::unknowns() const {
@@ -124,6 +132,7 @@ VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) 
     if (!du) throw std::logic_error("Newton matrix couples nodes that are not tree neighbours");
     return *du;
   }
+  if (J.blocks) return blocks_->solve(J.A, -R);
   if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return solve::solve(J.A, -R);
   VecX b = VecX::Zero(J.A.rows());
   b.segment(J.row, R.size()) = -R;
@@ -133,6 +142,12 @@ VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) 
 
 VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, NewtonMatrix* NJ,
                                         bool bordered) const {
+  if (blocks_ && !bordered) {
+    // Reparametrized, no loop-closing rows: fixed-pattern block assembly of 𝖯ᵀ K̂ F′.
+    if (NJ) NJ->blocks = true;
+    return blocks_->evaluate(c.s->q, c.s->v, x, c.dt, c.t_mid, normal_equations_,
+                             NJ ? &NJ->A : nullptr);
+  }
   SpMat* J = NJ ? &NJ->A : nullptr;
   const State& s = *c.s;
   const double dt = c.dt;

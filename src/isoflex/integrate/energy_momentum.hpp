@@ -18,6 +18,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "isoflex/integrate/reduced_newton_matrix.hpp"
 #include "isoflex/integrate/snapshot.hpp"
 #include "isoflex/model/model.hpp"
 #include "isoflex/solve/normal_equations.hpp"
@@ -50,10 +51,12 @@ struct StepStats {
 // with the tree factors (I − 𝒜) t = ℬ ν, which grows linearly with N (docs/theory/schemes.md).
 // The reparametrized system on a tree whose elements couple only tree neighbours is solved by an
 // O(N) recursion over the tree instead (system/tree_newton_solver.hpp).
+// `blocks`: the reparametrized matrix 𝖯ᵀ K̂ F′ of a forest without loop-closing rows assembled
+// node block by node block into a fixed pattern (integrate/reduced_newton_matrix.hpp).
 // Automatic: the tree recursion where it applies (reparametrized), else bordered for trees
 // without loop-closing rows, k ≥ 48 and a dense 𝖯 (more than 20 n entries: deep trees such as
-// chains), else explicit.
-enum class ReducedSolve { automatic, explicit_null_space, bordered, tree };
+// chains), else blocks (reparametrized, no loop-closing rows), else explicit.
+enum class ReducedSolve { automatic, explicit_null_space, bordered, tree, blocks };
 
 class EnergyMomentumIntegrator {
  public:
@@ -61,6 +64,7 @@ class EnergyMomentumIntegrator {
                            ReducedSolve how = ReducedSolve::automatic);
   bool bordered() const { return bordered_; }
   bool tree_recursion() const { return tree_.has_value(); }
+  bool block_assembly() const { return blocks_.has_value(); }
 
   model::Formulation formulation() const { return settings_.formulation; }
   // Size of the linear system solved per Newton iteration.
@@ -88,6 +92,7 @@ class EnergyMomentumIntegrator {
     system::SpMat A;
     int row = 0, col = 0;
     bool tree = false;
+    bool blocks = false;  // A in the fixed pattern of blocks_
     VecX qm, q1, u;
   };
   VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
@@ -108,6 +113,7 @@ class EnergyMomentumIntegrator {
   // unchanged (a cache; an integrator is not shared between threads).
   mutable solve::NormalEquations normal_equations_;
   std::optional<system::TreeNewtonSolver> tree_;
+  std::optional<ReducedNewtonMatrix> blocks_;
 };
 
 }  // namespace isoflex::integrate

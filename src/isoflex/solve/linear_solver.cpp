@@ -1,15 +1,19 @@
 #include "isoflex/solve/linear_solver.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <stdexcept>
 
 namespace isoflex::solve {
 
+namespace {
+bool use_dense(const SpMat& A);
+}
+
 VecX solve(const SpMat& A, const VecX& b) {
-  const double density = double(A.nonZeros()) / (double(A.rows()) * double(A.cols()));
-  if (A.rows() <= 64 || density > 0.15) {
+  if (use_dense(A)) {
     // Dense enough that a dense LU beats the sparse one.
     const MatX dense(A);
     const Eigen::PartialPivLU<MatX> lu(dense);
@@ -24,6 +28,88 @@ VecX solve(const SpMat& A, const VecX& b) {
   VecX x = lu.solve(b);
   if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
   return x;
+}
+
+namespace {
+bool use_dense(const SpMat& A) {
+  const double density = double(A.nonZeros()) / (double(A.rows()) * double(A.cols()));
+  return A.rows() <= 64 || density > 0.15;
+}
+}  // namespace
+
+struct FixedPatternLU::Impl {
+  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  std::vector<int> outer, inner;
+  int rows = -1, analyses = 0;
+};
+
+FixedPatternLU::FixedPatternLU() : impl_(std::make_unique<Impl>()) {}
+FixedPatternLU::~FixedPatternLU() = default;
+FixedPatternLU::FixedPatternLU(FixedPatternLU&&) noexcept = default;
+FixedPatternLU& FixedPatternLU::operator=(FixedPatternLU&&) noexcept = default;
+int FixedPatternLU::analyses() const {
+  return impl_->analyses;
+}
+
+VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
+  if (!A.isCompressed()) throw std::logic_error("FixedPatternLU: matrix not compressed");
+  if (use_dense(A)) return solve::solve(A, b);
+  Impl& m = *impl_;
+  const int* o = A.outerIndexPtr();
+  const int* i = A.innerIndexPtr();
+  const bool same = m.rows == A.rows() &&
+                    m.outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
+                    m.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
+                    std::equal(m.outer.begin(), m.outer.end(), o) &&
+                    std::equal(m.inner.begin(), m.inner.end(), i);
+  if (!same) {
+    m.lu.analyzePattern(A);
+    m.outer.assign(o, o + A.outerSize() + 1);
+    m.inner.assign(i, i + A.nonZeros());
+    m.rows = static_cast<int>(A.rows());
+    ++m.analyses;
+  }
+  m.lu.factorize(A);
+  if (m.lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
+  VecX x = m.lu.solve(b);
+  if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
+  return x;
+}
+
+struct FixedPatternLDLT::Impl {
+  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  std::vector<int> outer, inner;
+  int rows = -1, analyses = 0;
+};
+
+FixedPatternLDLT::FixedPatternLDLT() : impl_(std::make_unique<Impl>()) {}
+FixedPatternLDLT::~FixedPatternLDLT() = default;
+FixedPatternLDLT::FixedPatternLDLT(FixedPatternLDLT&&) noexcept = default;
+FixedPatternLDLT& FixedPatternLDLT::operator=(FixedPatternLDLT&&) noexcept = default;
+int FixedPatternLDLT::analyses() const {
+  return impl_->analyses;
+}
+
+VecX FixedPatternLDLT::solve(const SpMat& A, const VecX& b) {
+  if (!A.isCompressed()) throw std::logic_error("FixedPatternLDLT: matrix not compressed");
+  Impl& m = *impl_;
+  const int* o = A.outerIndexPtr();
+  const int* i = A.innerIndexPtr();
+  const bool same = m.rows == A.rows() &&
+                    m.outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
+                    m.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
+                    std::equal(m.outer.begin(), m.outer.end(), o) &&
+                    std::equal(m.inner.begin(), m.inner.end(), i);
+  if (!same) {
+    m.ldlt.analyzePattern(A);
+    m.outer.assign(o, o + A.outerSize() + 1);
+    m.inner.assign(i, i + A.nonZeros());
+    m.rows = static_cast<int>(A.rows());
+    ++m.analyses;
+  }
+  m.ldlt.factorize(A);
+  if (m.ldlt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
+  return m.ldlt.solve(b);
 }
 
 std::vector<int> independent_rows_lu(const MatX& G, double threshold) {

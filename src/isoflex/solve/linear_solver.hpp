@@ -3,6 +3,7 @@
 // matrix is dense enough that it is faster), rank-revealing factorizations for redundant
 // constraints, and condition numbers. Eigen's decompositions are compiled only here.
 #include <Eigen/SparseCore>
+#include <memory>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -13,6 +14,42 @@ using SpMat = Eigen::SparseMatrix<double>;
 
 // Solves A x = b; throws std::runtime_error if A is numerically singular.
 VecX solve(const SpMat& A, const VecX& b);
+
+// Solves A x = b for a sequence of matrices with one sparsity pattern (Newton matrices assembled
+// into a fixed pattern): the same dense/sparse choice as solve(), but the fill-reducing ordering
+// (COLAMD) and the symbolic analysis of the sparse LU are computed once and kept while the
+// pattern (outer and inner indices of the compressed A) is unchanged; only the numeric
+// factorization is repeated. Not thread-safe (a cache).
+class FixedPatternLU {
+ public:
+  FixedPatternLU();
+  ~FixedPatternLU();
+  FixedPatternLU(FixedPatternLU&&) noexcept;
+  FixedPatternLU& operator=(FixedPatternLU&&) noexcept;
+  // Throws std::runtime_error if A is numerically singular. A must be compressed.
+  VecX solve(const SpMat& A, const VecX& b);
+  int analyses() const;  // how often the pattern was analysed
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same for symmetric positive definite matrices (sparse LDLᵀ, AMD ordering kept; the lower
+// triangle of A is used). Throws std::runtime_error if A is not positive definite.
+class FixedPatternLDLT {
+ public:
+  FixedPatternLDLT();
+  ~FixedPatternLDLT();
+  FixedPatternLDLT(FixedPatternLDLT&&) noexcept;
+  FixedPatternLDLT& operator=(FixedPatternLDLT&&) noexcept;
+  VecX solve(const SpMat& A, const VecX& b);
+  int analyses() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Independent rows of G (m × n) by Gaussian elimination with full pivoting (IGA-thesis Alg. 5.1,
 // (5.27), Rem. 5.5): returns the indices of rank(G) rows that span the row space, in the order of
@@ -29,6 +66,5 @@ double condition_number(const MatX& A);
 
 // Least-squares solution of A x = b (A dense, full column rank).
 VecX least_squares(const MatX& A, const VecX& b);
-
 
 }  // namespace isoflex::solve

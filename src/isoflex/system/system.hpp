@@ -75,6 +75,7 @@ class System {
   const std::vector<JointInstance>& joints() const { return joints_; }
   const std::vector<int>& roots() const { return roots_; }
   const std::vector<std::unique_ptr<elements::Element>>& elements() const { return elements_; }
+  const std::vector<loads::BodyLoad>& loads() const { return loads_; }
   const std::vector<int>& root_nu_offsets() const { return root_nu_offset_; }
   const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
   // Coordinates of a node (−1: the ground frame).

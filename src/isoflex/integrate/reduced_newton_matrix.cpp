@@ -1,0 +1,427 @@
+#include "isoflex/integrate/reduced_newton_matrix.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "isoflex/math/frame_node.hpp"
+#include "isoflex/math/rotation.hpp"
+
+namespace isoflex::integrate {
+
+namespace fn = frame_node;
+using system::SpMat;
+
+namespace {
+constexpr int kOutside = -2;  // slot of an entry of 𝖦 outside its fixed pattern
+}
+
+bool ReducedNewtonMatrix::applicable(const system::System& sys) {
+  if (!sys.cut_rows().empty()) return false;
+  std::vector<int> owners(sys.node_count(), 0);
+  for (int r : sys.roots()) ++owners[r];
+  for (int j : sys.tree_order()) ++owners[sys.joints()[j].child];
+  return std::all_of(owners.begin(), owners.end(), [](int c) { return c == 1; });
+}
+
+ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) {
+  if (!applicable(sys))
+    throw std::invalid_argument(
+        "block assembly of the reduced Newton matrix needs a spanning forest without "
+        "loop-closing rows");
+  const int N = sys.node_count();
+  const auto& joints = sys.joints();
+
+  // ν-groups and the paths of the nodes (the nonzero blocks of E, (57)).
+  path_.assign(N, {});
+  parent_joint_.assign(N, -1);
+  for (std::size_t r = 0; r < sys.roots().size(); ++r) {
+    path_[sys.roots()[r]] = {static_cast<int>(groups_.size())};
+    groups_.push_back({sys.root_nu_offsets()[r], 6, 3});
+  }
+  for (int j : sys.tree_order()) {
+    const auto& J = joints[j];
+    parent_joint_[J.child] = j;
+    if (J.parent >= 0) path_[J.child] = path_[J.parent];
+    if (J.joint.freedom_count() > 0) {
+      path_[J.child].push_back(static_cast<int>(groups_.size()));
+      groups_.push_back({J.nu_offset, J.joint.freedom_count(), J.joint.rotation_vector_offset()});
+    }
+  }
+
+  // Node pairs coupled by K̂: the diagonal (masses of bodies, internal-constraint Hessians,
+  // loads), element node pairs (mass, ∂f/∂q), joint parent/child pairs (joint Hessians).
+  std::vector<std::pair<int, int>> pp;
+  for (int i = 0; i < N; ++i) pp.push_back({i, i});
+  for (const auto& e : sys.elements())
+    for (int a : e->nodes())
+      for (int b : e->nodes()) pp.push_back({a, b});
+  for (const auto& J : joints)
+    if (J.parent >= 0) {
+      pp.push_back({J.parent, J.child});
+      pp.push_back({J.child, J.parent});
+    }
+  std::sort(pp.begin(), pp.end());
+  pp.erase(std::unique(pp.begin(), pp.end()), pp.end());
+  row_pairs_.assign(N, {});
+  for (const auto& [i, j] : pp) {
+    row_pairs_[i].push_back({j, static_cast<int>(pairs_.size())});
+    pairs_.push_back({i, j, 0});
+  }
+
+  // Blocks (g, h) of J: every combination of a group on the path of i and one on the path of j.
+  std::map<std::pair<int, int>, int> block_of;
+  for (Pair& p : pairs_) {
+    p.first = static_cast<int>(pair_blocks_.size());
+    for (int g : path_[p.i])
+      for (int h : path_[p.j]) {
+        const auto [it, inserted] = block_of.insert({{g, h}, static_cast<int>(block_of.size())});
+        pair_blocks_.push_back(it->second);
+      }
+  }
+  jblocks_.resize(block_of.size());
+  system::Triplets t;
+  for (const auto& [gh, k] : block_of) {
+    jblocks_[k].g = gh.first;
+    jblocks_[k].h = gh.second;
+    const Group &G = groups_[gh.first], &H = groups_[gh.second];
+    for (int c = 0; c < H.width; ++c)
+      for (int r = 0; r < G.width; ++r) t.emplace_back(G.offset + r, H.offset + c, 1.0);
+  }
+  pattern_.resize(sys.k(), sys.k());
+  pattern_.setFromTriplets(t.begin(), t.end());
+  pattern_.makeCompressed();
+  pattern_.coeffs().setZero();
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  for (JBlock& b : jblocks_) {
+    const Group &G = groups_[b.g], &H = groups_[b.h];
+    b.first_slot = static_cast<int>(slots_.size());
+    for (int c = 0; c < H.width; ++c) {
+      const int col = H.offset + c;
+      const int* s = std::lower_bound(inner + outer[col], inner + outer[col + 1], G.offset);
+      slots_.push_back(static_cast<int>(s - inner));  // rows G.offset … + width: consecutive
+    }
+  }
+
+  {
+    std::vector<int> offset, width;
+    for (const Group& G : groups_) {
+      offset.push_back(G.offset);
+      width.push_back(G.width);
+    }
+    std::vector<std::pair<int, int>> blocks;
+    for (const JBlock& b : jblocks_) blocks.push_back({b.g, b.h});
+    block_lu_ = BlockLU(offset, width, blocks);
+    values_.resize(jblocks_.size());
+  }
+
+  // Constant parts: element pairs and the mass blocks.
+  for (const auto& e : sys.elements()) {
+    std::vector<int> ep;
+    for (int a : e->nodes())
+      for (int b : e->nodes()) ep.push_back(pair(a, b));
+    element_pairs_.push_back(std::move(ep));
+  }
+  mass_.assign(pairs_.size(), Block::Zero());
+  const SpMat& M = sys.mass();
+  for (int c = 0; c < M.outerSize(); ++c)
+    for (SpMat::InnerIterator it(M, c); it; ++it) {
+      const int p = pair(static_cast<int>(it.row()) / 12, static_cast<int>(it.col()) / 12);
+      if (p < 0) throw std::logic_error("mass matrix couples nodes outside the pattern of K");
+      mass_[p](it.row() % 12, it.col() % 12) += it.value();
+    }
+  selected_all_ = sys.selected_rows();
+
+  // Pattern of 𝖦: the entries of the node and joint blocks that are nonzero at a generic
+  // configuration (the Jacobians are linear in q, (22)), zero or not at the current one, so that
+  // it is fixed. An entry outside it that turns out nonzero sends evaluate() to System::jacobian.
+  {
+    VecX qg = sys.q0();  // a deterministic generic perturbation (no global RNG state)
+    for (int k = 0; k < sys.n(); ++k) qg(k) += 0.1 * std::sin(0.7 * k + 1.3);
+    std::vector<Mat<6, 12>> Gn(N);
+    for (int i = 0; i < N; ++i) Gn[i] = fn::jacobian(qg.segment<12>(12 * i));
+    std::vector<MatX> Gj;
+    for (const auto& J : joints)
+      Gj.push_back(J.joint.jacobian(sys.node_q(qg, J.parent), sys.node_q(qg, J.child)));
+    std::vector<int> sel(sys.m_all(), -1);
+    for (std::size_t r = 0; r < selected_all_.size(); ++r) sel[selected_all_[r]] = r;
+    system::Triplets tg;
+    for (int i = 0; i < N; ++i)
+      for (int c = 0; c < 12; ++c)
+        for (int r = 0; r < 6; ++r)
+          if (sel[6 * i + r] >= 0 && Gn[i](r, c) != 0.0)
+            tg.emplace_back(sel[6 * i + r], 12 * i + c, 1.0);
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const auto& J = joints[j];
+      for (int c = 0; c < 24; ++c) {
+        const int node = c < 12 ? J.parent : J.child;
+        for (int r = 0; r < J.joint.constraint_count(); ++r)
+          if (node >= 0 && sel[J.row_offset + r] >= 0 && Gj[j](r, c) != 0.0)
+            tg.emplace_back(sel[J.row_offset + r], 12 * node + c % 12, 1.0);
+      }
+    }
+    G_pattern_.resize(static_cast<int>(selected_all_.size()), sys.n());
+    G_pattern_.setFromTriplets(tg.begin(), tg.end());
+    G_pattern_.makeCompressed();
+    G_pattern_.coeffs().setZero();
+    const auto slot = [&](int row, int node, int c) {
+      if (node < 0 || sel[row] < 0) return -1;  // not a selected entry: ignore
+      const int col = 12 * node + c;
+      const int* in = G_pattern_.innerIndexPtr();
+      const int* o = G_pattern_.outerIndexPtr();
+      const int* e = std::lower_bound(in + o[col], in + o[col + 1], sel[row]);
+      return e != in + o[col + 1] && *e == sel[row] ? static_cast<int>(e - in) : kOutside;
+    };
+    for (int i = 0; i < N; ++i)
+      for (int c = 0; c < 12; ++c)
+        for (int r = 0; r < 6; ++r) node_slots_.push_back(slot(6 * i + r, i, c));
+    for (const auto& J : joints) {
+      joint_first_slot_.push_back(static_cast<int>(joint_slots_.size()));
+      for (int c = 0; c < 24; ++c)
+        for (int r = 0; r < J.joint.constraint_count(); ++r)
+          joint_slots_.push_back(slot(J.row_offset + r, c < 12 ? J.parent : J.child, c % 12));
+    }
+    G_ = G_pattern_;
+    // 𝖦𝖦ᵀ = Σ_columns c (column c)(column c)ᵀ: the products of entries sharing a column.
+    system::Triplets ta;
+    const int* o = G_pattern_.outerIndexPtr();
+    const int* in = G_pattern_.innerIndexPtr();
+    for (int c = 0; c < G_pattern_.outerSize(); ++c)
+      for (int a = o[c]; a < o[c + 1]; ++a)
+        for (int b = o[c]; b < o[c + 1]; ++b) ta.emplace_back(in[a], in[b], 1.0);
+    GGt_pattern_.resize(G_pattern_.rows(), G_pattern_.rows());
+    GGt_pattern_.setFromTriplets(ta.begin(), ta.end());
+    GGt_pattern_.makeCompressed();
+    GGt_pattern_.coeffs().setZero();
+    const int* ao = GGt_pattern_.outerIndexPtr();
+    const int* ai = GGt_pattern_.innerIndexPtr();
+    for (int c = 0; c < G_pattern_.outerSize(); ++c)
+      for (int a = o[c]; a < o[c + 1]; ++a)
+        for (int b = o[c]; b < o[c + 1]; ++b) {
+          const int col = in[b];
+          const int* e = std::lower_bound(ai + ao[col], ai + ao[col + 1], in[a]);
+          products_.push_back({a, b, static_cast<int>(e - ai)});
+        }
+    GGt_ = GGt_pattern_;
+  }
+}
+
+namespace {
+// Pmᵀ K P1 for internal null spaces P = [I 0; 0 −d̂₁; 0 −d̂₂; 0 −d̂₃] (31), by 3 × 3 blocks.
+Mat<6, 6> project(const Mat<12, 6>& Pm, const Mat<12, 12>& K, const Mat<12, 6>& P1) {
+  Mat<12, 6> KP;
+  KP.leftCols<3>() = K.leftCols<3>();
+  KP.rightCols<3>() = K.middleCols<3>(3).lazyProduct(P1.block<3, 3>(3, 3)) +
+                      K.middleCols<3>(6).lazyProduct(P1.block<3, 3>(6, 3)) +
+                      K.middleCols<3>(9).lazyProduct(P1.block<3, 3>(9, 3));
+  Mat<6, 6> out;
+  out.topRows<3>() = KP.topRows<3>();
+  out.bottomRows<3>() = Pm.block<3, 3>(3, 3).transpose().lazyProduct(KP.middleRows<3>(3)) +
+                        Pm.block<3, 3>(6, 3).transpose().lazyProduct(KP.middleRows<3>(6)) +
+                        Pm.block<3, 3>(9, 3).transpose().lazyProduct(KP.middleRows<3>(9));
+  return out;
+}
+}  // namespace
+
+int ReducedNewtonMatrix::pair(int i, int j) const {
+  const auto& row = row_pairs_[i];
+  const auto it = std::lower_bound(row.begin(), row.end(), std::make_pair(j, -1));
+  return it != row.end() && it->first == j ? it->second : -1;
+}
+
+void ReducedNewtonMatrix::twist_blocks(const VecX& q, std::vector<std::vector<Twist>>& E) const {
+  // t_child = A t_parent + B τ (frame_joint.hpp): E_{c,g} = A E_{p,g}, E_{c,own} = B.
+  E.resize(sys_.node_count());
+  for (int r : sys_.roots()) E[r].assign(1, Twist::Identity(6, 6));
+  for (int j : sys_.tree_order()) {
+    const auto& J = sys_.joints()[j];
+    const fn::Q qa = sys_.node_q(q, J.parent), qb = sys_.node_q(q, J.child);
+    auto& out = E[J.child];
+    out.clear();
+    if (J.parent >= 0) {
+      const Mat<6, 6> A = J.joint.parent_block(qa, qb);
+      for (const Twist& B : E[J.parent]) out.push_back(A * B);
+    }
+    if (J.joint.freedom_count() > 0) out.push_back(J.joint.freedom_block(qa, qb));
+  }
+}
+
+VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
+                                   double t_mid, solve::NormalEquations& normal,
+                                   SpMat* Jout) const {
+  const int n = sys_.n(), N = sys_.node_count();
+  const VecX q1 = sys_.update(qn, u);  // (14), (37)
+  const VecX qm = 0.5 * (qn + q1);
+  const VecX v1 = (2.0 / dt) * (q1 - qn) - vn;
+
+  // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t_{n+½}) as System::discrete_force, with the node blocks of
+  // K̂ = (2/Δt) M + Δt ∂f/∂qₙ₊₁ (+ ½Δt Σ λ̂ᵢ Hᵢ below) added straight into the pattern.
+  const bool want = Jout != nullptr;
+  if (want) {
+    K_.resize(pairs_.size());
+    for (std::size_t p = 0; p < pairs_.size(); ++p) K_[p] = (2.0 / dt) * mass_[p];
+  }
+  VecX f = VecX::Zero(n);
+  MatX Ke;
+  const auto& elements = sys_.elements();
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const auto& nodes = elements[e]->nodes();
+    const int ne = static_cast<int>(nodes.size());
+    VecX a(12 * ne), b(12 * ne);
+    for (int i = 0; i < ne; ++i) {
+      a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
+      b.segment<12>(12 * i) = q1.segment<12>(12 * nodes[i]);
+    }
+    const VecX dv = elements[e]->discrete_gradient(a, b, want ? &Ke : nullptr);
+    for (int i = 0; i < ne; ++i) {
+      f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
+      if (want)
+        for (int j = 0; j < ne; ++j)
+          K_[element_pairs_[e][i * ne + j]] += dt * Ke.block<12, 12>(12 * i, 12 * j);
+    }
+  }
+  for (const auto& L : sys_.loads()) {
+    const int o = 12 * L.node();
+    const fn::Q qmo = 0.5 * (qn.segment<12>(o) + q1.segment<12>(o));
+    f.segment<12>(o) -= L.generalized_force(qmo, t_mid);
+    if (want) K_[pair(L.node(), L.node())] += (-0.5 * dt) * L.generalized_force_derivative(t_mid);
+  }
+  const VecX r0 = sys_.mass() * (v1 - vn) + dt * f;
+  const VecX R = sys_.reduce(qm, r0);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
+  if (!want) return R;
+
+  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) and ½Δt Σ λ̂ᵢ Hᵢ.
+  // 𝖦 = G(q_{n+½}) of the selected rows ((22), joint Jacobians) written into its pattern.
+  double* gv = G_.valuePtr();
+  bool outside = false;  // a nonzero outside the pattern of 𝖦
+  const auto put = [&](int slot, double value) {
+    if (slot >= 0)
+      gv[slot] = value;
+    else if (slot == kOutside && value != 0.0)
+      outside = true;
+  };
+  for (int i = 0; i < N; ++i) {
+    const Mat<6, 12> Gi = fn::jacobian(qm.segment<12>(12 * i));
+    const int* sl = &node_slots_[72 * i];
+    for (int c = 0; c < 12; ++c)
+      for (int r = 0; r < 6; ++r) put(sl[6 * c + r], Gi(r, c));
+  }
+  for (std::size_t j = 0; j < sys_.joints().size(); ++j) {
+    const auto& J = sys_.joints()[j];
+    const MatX Gj = J.joint.jacobian(sys_.node_q(qm, J.parent), sys_.node_q(qm, J.child));
+    const int m = J.joint.constraint_count();
+    const int* sl = &joint_slots_[joint_first_slot_[j]];
+    for (int c = 0; c < 24; ++c)
+      for (int r = 0; r < m; ++r) put(sl[m * c + r], Gj(r, c));
+  }
+  VecX lambda;
+  if (outside) {
+    const SpMat Gm = sys_.jacobian(qm);
+    lambda = normal.solve(Gm, -(Gm * r0) / dt);
+  } else {
+    double* av = GGt_.valuePtr();
+    std::fill(av, av + GGt_.nonZeros(), 0.0);
+    for (const Product& p : products_) av[p.target] += gv[p.a] * gv[p.b];
+    lambda = ldlt_.solve(GGt_, -(G_ * r0) / dt);
+  }
+  VecX l = VecX::Zero(sys_.m_all());
+  for (std::size_t i = 0; i < selected_all_.size(); ++i) l(selected_all_[i]) = lambda(i);
+  for (int i = 0; i < N; ++i) {
+    Block H = Block::Zero();
+    fn::add_constraint_hessian(l.segment<6>(6 * i), H);
+    K_[pair(i, i)] += (0.5 * dt) * H;
+  }
+  for (const auto& J : sys_.joints()) {
+    const int m = J.joint.constraint_count();
+    if (l.segment(J.row_offset, m).isZero(0.0)) continue;
+    Mat<24, 24> H = Mat<24, 24>::Zero();
+    J.joint.add_constraint_hessian(l.segment(J.row_offset, m), H);
+    const int nodes[2] = {J.parent, J.child};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        if (nodes[a] >= 0 && nodes[b] >= 0)
+          K_[pair(nodes[a], nodes[b])] += (0.5 * dt) * H.block<12, 12>(12 * a, 12 * b);
+  }
+
+  // E(q_{n+½}), E(q_{n+1}) D(u) and the internal null spaces (31) of both configurations.
+  twist_blocks(qm, Em_);
+  twist_blocks(q1, E1_);
+  std::vector<Mat3> T(groups_.size());
+  for (std::size_t g = 0; g < groups_.size(); ++g)
+    if (groups_[g].rotvec >= 0)
+      T[g] = rodrigues_tangent(u.segment<3>(groups_[g].offset + groups_[g].rotvec));
+  for (int i = 0; i < N; ++i)
+    for (std::size_t b = 0; b < path_[i].size(); ++b) {
+      const Group& G = groups_[path_[i][b]];
+      if (G.rotvec >= 0)
+        E1_[i][b].middleCols<3>(G.rotvec) = E1_[i][b].middleCols<3>(G.rotvec) * T[path_[i][b]];
+    }
+  std::vector<Mat<12, 6>> Pm(N), P1(N);
+  for (int i = 0; i < N; ++i) {
+    Pm[i] = fn::null_space(qm.segment<12>(12 * i));
+    P1[i] = fn::null_space(q1.segment<12>(12 * i));
+  }
+
+  // J_{gh} = Σ_{(i,j)} E_{i,g}ᵀ K̃_{ij} E_{j,h} D_h, K̃_{ij} = P_int,iᵀ K̂_{ij} P_int,j.
+  J_.resize(jblocks_.size());
+  for (std::size_t k = 0; k < jblocks_.size(); ++k)
+    J_[k].setZero(groups_[jblocks_[k].g].width, groups_[jblocks_[k].h].width);
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const Pair& P = pairs_[p];
+    const auto &pi = path_[P.i], &pj = path_[P.j];
+    if (pi.empty() || pj.empty()) continue;
+    const Mat<6, 6> Kt = project(Pm[P.i], K_[p], P1[P.j]);
+    const int lj = static_cast<int>(pj.size());
+    for (int b = 0; b < lj; ++b) {
+      const Twist KE = Kt.lazyProduct(E1_[P.j][b]);
+      for (std::size_t a = 0; a < pi.size(); ++a)
+        J_[pair_blocks_[P.first + static_cast<int>(a) * lj + b]] +=
+            Em_[P.i][a].transpose().lazyProduct(KE);
+    }
+  }
+
+  // Values into the fixed pattern.
+  SpMat& J = *Jout;
+  const bool same =
+      J.rows() == pattern_.rows() && J.cols() == pattern_.cols() && J.isCompressed() &&
+      J.nonZeros() == pattern_.nonZeros() &&
+      std::equal(pattern_.innerIndexPtr(), pattern_.innerIndexPtr() + pattern_.nonZeros(),
+                 J.innerIndexPtr()) &&
+      std::equal(pattern_.outerIndexPtr(), pattern_.outerIndexPtr() + pattern_.outerSize() + 1,
+                 J.outerIndexPtr());
+  if (!same) J = pattern_;
+  double* values = J.valuePtr();
+  for (std::size_t k = 0; k < jblocks_.size(); ++k) {
+    const Small& B = J_[k];
+    const int* slot = &slots_[jblocks_[k].first_slot];
+    for (int c = 0; c < B.cols(); ++c)
+      for (int r = 0; r < B.rows(); ++r) values[slot[c] + r] = B(r, c);
+  }
+  return R;
+}
+
+VecX ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+  if (J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k()) {
+    const double* v = J.valuePtr();
+    for (std::size_t k = 0; k < jblocks_.size(); ++k) {
+      Small& B = values_[k];
+      B.resize(groups_[jblocks_[k].g].width, groups_[jblocks_[k].h].width);
+      const int* slot = &slots_[jblocks_[k].first_slot];
+      for (int c = 0; c < B.cols(); ++c)
+        for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
+    }
+    if (block_lu_.factorize(values_)) {
+      VecX x = block_lu_.solve(b);
+      // No pivoting across blocks: accept the solution by its residual.
+      if (x.allFinite() &&
+          (J * x - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>())
+        return x;
+    }
+  }
+  ++fallbacks_;
+  return lu_.solve(J, b);
+}
+
+}  // namespace isoflex::integrate

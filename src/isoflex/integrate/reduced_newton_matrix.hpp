@@ -1,0 +1,105 @@
+#pragma once
+// Residual and Newton matrix of the reparametrized scheme (DNSM-III (14)) on a spanning forest
+// without loop-closing rows, assembled block by block into a fixed sparsity pattern.
+//
+//   R(u) = 𝖯ᵀ r₀(q_{n+1}),  q_{n+1} = F_{qₙ}(u),  𝖯 = P_tree(q_{n+½}) = P_int(q_{n+½}) E(q_{n+½}),
+//   J(u) = 𝖯ᵀ K̂ P_tree(q_{n+1}) D(u),  K̂ = (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ
+// (energy_momentum.hpp; P_tree = P_int E is (57), D(u) the T(θ) blocks of the update (37)).
+// Node by node, with twist-level blocks E_{i,g} (6 × r_g) of node i and ν-group g (a root twist
+// or the τ of a tree joint) on the path from i to its root,
+//   J_{gh} = Σ_{(i,j)} E_{i,g}(q_{n+½})ᵀ K̃_{ij} E_{j,h}(q_{n+1}) D_h,
+//   K̃_{ij} = P_int,i(q_{n+½})ᵀ K̂_{ij} P_int,j(q_{n+1})   (6 × 6),
+// summed over the node pairs (i, j) that K̂ couples: the diagonal, element node pairs, joint
+// parent/child pairs. The pattern of K̂, the paths, the (g, h) pattern of J with the positions of
+// its values, the elimination order of its block LU, and the patterns of 𝖦 and 𝖦𝖦ᵀ (λ̂ by the
+// normal equations, LDLᵀ ordering kept) are computed once; an iteration costs a few fixed-size
+// products per node pair and numeric factorizations. R is the leaves-to-root
+// sweep System::reduce, so 𝖯 is never formed. For shallow forests (a beam's nodes are roots of
+// their own) J stays sparse; for deep trees (chains) it fills in as 𝖯 does.
+#include <vector>
+
+#include "isoflex/integrate/block_lu.hpp"
+#include "isoflex/math/types.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/solve/normal_equations.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::integrate {
+
+class ReducedNewtonMatrix {
+ public:
+  // True for a system without loop-closing rows whose every node is a root or the child of a
+  // tree joint.
+  static bool applicable(const system::System& sys);
+  explicit ReducedNewtonMatrix(const system::System& sys);
+
+  // R(u) for the step from (qₙ, vₙ); J (if not null) receives the Newton matrix (k × k, compressed,
+  // always the same pattern). λ̂ of K̂ by least squares from r₀ ≈ −Δt 𝖦ᵀλ; `normal` only if 𝖦
+  // has a nonzero outside its fixed pattern (then 𝖦 = System::jacobian).
+  VecX evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
+                solve::NormalEquations& normal, system::SpMat* J) const;
+  // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
+  // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
+  VecX solve(const system::SpMat& J, const VecX& b) const;
+  const system::SpMat& pattern() const { return pattern_; }
+  int analyses() const { return lu_.analyses(); }  // symbolic analyses of the sparse LU so far
+  int fallbacks() const { return fallbacks_; }     // solves that needed the sparse LU
+
+ private:
+  using Block = Mat<12, 12>;
+  // 6 × r blocks (r ≤ 6) without heap allocation.
+  using Twist = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
+  using Small = BlockLU::Small;
+  struct Group {
+    int offset = 0, width = 0;
+    int rotvec = -1;  // θ inside the group (T(θ) block of D), −1 = none
+  };
+  struct Pair {
+    int i = 0, j = 0;
+    int first = 0;  // first entry of its J-block indices (path(i) × path(j), row-major)
+  };
+  struct JBlock {
+    int g = 0, h = 0;
+    int first_slot = 0;  // slots_[first_slot + c]: value index of (offset_g, offset_h + c)
+  };
+
+  int pair(int i, int j) const;  // index into pairs_, −1 if K̂ does not couple i and j
+  // E(q) node blocks along the paths (path_[i] order), (57).
+  void twist_blocks(const VecX& q, std::vector<std::vector<Twist>>& E) const;
+
+  const system::System& sys_;
+  std::vector<Group> groups_;
+  std::vector<std::vector<int>> path_;  // groups on the path of node i, root first
+  std::vector<int> parent_joint_;       // tree joint whose child is node i, −1 for a root
+  std::vector<Pair> pairs_;
+  std::vector<std::vector<std::pair<int, int>>> row_pairs_;  // node i: (j, pair), sorted by j
+  std::vector<int> pair_blocks_;                             // J block of each path combination
+  std::vector<std::vector<int>> element_pairs_;              // ne × ne pair indices per element
+  std::vector<Block> mass_;                                  // M blocks of the pairs
+  std::vector<JBlock> jblocks_;
+  std::vector<int> slots_;
+  system::SpMat pattern_;
+  std::vector<int> selected_all_;  // all-rows index of each selected row
+  // 𝖦 = G(q_{n+½}) (selected rows) in a fixed pattern: value slots of the 6 × 12 blocks of the
+  // internal constraints and the m × 24 blocks of the joints (−1: ground or unselected row).
+  system::SpMat G_pattern_;
+  std::vector<int> node_slots_, joint_slots_, joint_first_slot_;
+  // 𝖦𝖦ᵀ of the normal equations for λ̂ in a fixed pattern: A[target] += G[a]·G[b].
+  struct Product {
+    int a, b, target;
+  };
+  system::SpMat GGt_pattern_;
+  std::vector<Product> products_;
+  // Workspace and the kept LU (caches; an integrator is not shared between threads).
+  mutable std::vector<Block> K_;
+  mutable system::SpMat G_, GGt_;
+  mutable solve::FixedPatternLDLT ldlt_;
+  mutable std::vector<std::vector<Twist>> Em_, E1_;
+  mutable std::vector<Small> J_;
+  mutable BlockLU block_lu_;
+  mutable std::vector<Small> values_;
+  mutable solve::FixedPatternLU lu_;
+  mutable int fallbacks_ = 0;
+};
+
+}  // namespace isoflex::integrate
