@@ -101,7 +101,7 @@ BeamElement::Q BeamElement::as_element_q(const VecX& q) {
 BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
   // Gram matrix of the blocks: E_k = ½ ⟨h_k, QᵀQ⟩ with Q = [q_0 … q_7] (3 × 8).
   const Eigen::Map<const Mat<3, 8>> blocks(q.data());
-  const Mat<8, 8> gram = blocks.transpose() * blocks;
+  const Mat<8, 8> gram = blocks.transpose().lazyProduct(blocks);
   Strain6 e;
   for (int k = 0; k < 6; ++k) e(k) = 0.5 * h_[k].cwiseProduct(gram).sum();
   return e;
@@ -112,7 +112,7 @@ Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
   const Eigen::Map<const Mat<3, 8>> blocks(q.data());
   Mat<6, kCoords> B;
   for (int k = 0; k < 6; ++k) {
-    const Mat<3, 8> row = blocks * h_[k];
+    const Mat<3, 8> row = blocks.lazyProduct(h_[k]);
     B.row(k) = Eigen::Map<const Vec<kCoords>>(row.data()).transpose();
   }
   return B;
@@ -154,7 +154,8 @@ Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::hessian(const VecX&
   const Q q = as_element_q(qx);
   const Strain6 S = C_.cwiseProduct(raw_strains(q) - e0_);
   const Mat<6, kCoords> B = strain_jacobian(q);
-  return L0_ * (B.transpose() * C_.asDiagonal() * B + weighted_strain_hessian(S));
+  const Mat<kCoords, 6> BC = B.transpose() * C_.asDiagonal();
+  return L0_ * (BC.lazyProduct(B) + weighted_strain_hessian(S));
 }
 
 VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_dqn1) const {
@@ -169,9 +170,10 @@ VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_
   const Vec<kCoords> dv = L0_ * Bm.transpose() * S + gravity_gradient();
   if (dv_dqn1) {
     // ∂/∂qₙ₊₁ [B(q_{n+½})ᵀ S̄] = ½ Σ_k S̄_k H_k + B(q_{n+½})ᵀ C ½ B(qₙ₊₁) — not symmetric.
+    // (Coefficient-wise products: at these fixed sizes they beat the blocked GEMM path.)
+    const Mat<kCoords, 6> BmC = Bm.transpose() * C_.asDiagonal();
     const Mat<kCoords, kCoords> K =
-        0.5 * L0_ *
-        (weighted_strain_hessian(S) + Bm.transpose() * C_.asDiagonal() * strain_jacobian(qn1));
+        0.5 * L0_ * (weighted_strain_hessian(S) + BmC.lazyProduct(strain_jacobian(qn1)));
     *dv_dqn1 = K;
   }
   return dv;
