@@ -1,0 +1,191 @@
+// Model-file benchmark: regenerates DNSM-III Table 4 for any model (bench/slider_crank.md):
+// the whole run of every formulation — wall time, Newton iterations per step, the CPU-time ratio
+// constrained / reparametrized, the speed relative to real time — and the condition numbers of
+// the Newton matrices of the first step at several Δt.
+//
+//   model_bench MODEL [--formulations constrained,nullspace,reparametrized] [--repeat R]
+//               [--t-end T] [--cond 1e-2,1e-3,1e-4] [--no-run]
+//
+// Timing: steady_clock around integ.step() only (no output is written; System::compile and the
+// energy bookkeeping excluded), fastest of R runs, spread (slowest − fastest)/fastest.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/io/model_reader.hpp"
+#include "newton_condition.hpp"
+
+namespace {
+
+using namespace isoflex;
+using Clock = std::chrono::steady_clock;
+using model::Formulation;
+
+struct Options {
+  std::string model;
+  std::vector<Formulation> formulations{Formulation::constrained, Formulation::nullspace,
+                                        Formulation::reparametrized};
+  int repeat = 1;
+  double t_end = -1.0;  // < 0: the model's
+  std::vector<double> cond_dts;
+  bool run = true;
+};
+
+[[noreturn]] void usage(const std::string& msg) {
+  std::fprintf(stderr,
+               "model_bench: %s\n"
+               "usage: model_bench MODEL [--formulations constrained,nullspace,reparametrized]\n"
+               "                   [--repeat R] [--t-end T] [--cond 1e-2,1e-3,1e-4] [--no-run]\n",
+               msg.c_str());
+  std::exit(2);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(a + " needs a value");
+      return argv[++i];
+    };
+    try {
+      if (a == "--formulations") {
+        o.formulations.clear();
+        for (const auto& name : split(value())) {
+          const auto f = model::formulation_from_string(name);
+          if (!f) usage("unknown formulation " + name);
+          o.formulations.push_back(*f);
+        }
+      } else if (a == "--repeat") {
+        o.repeat = std::stoi(value());
+        if (o.repeat < 1) usage("--repeat must be >= 1");
+      } else if (a == "--t-end") {
+        o.t_end = std::stod(value());
+      } else if (a == "--cond") {
+        for (const auto& d : split(value())) o.cond_dts.push_back(std::stod(d));
+      } else if (a == "--no-run") {
+        o.run = false;
+      } else if (!a.empty() && a[0] == '-') {
+        usage("unknown option " + a);
+      } else if (o.model.empty()) {
+        o.model = a;
+      } else {
+        usage("more than one model file");
+      }
+    } catch (const std::invalid_argument&) {
+      usage("bad value for " + a);
+    }
+  }
+  if (o.model.empty()) usage("no model file");
+  return o;
+}
+
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+struct RunResult {
+  std::string solve;
+  int unknowns = 0, steps = 0;
+  double seconds = 0.0, spread = 0.0, iterations_per_step = 0.0, max_violation = 0.0;
+};
+
+RunResult run(const system::System& sys, const model::Solver& settings, int repeat) {
+  const integrate::EnergyMomentumIntegrator integ(sys, settings);
+  RunResult best;
+  double slowest = 0.0;
+  for (int r = 0; r < repeat; ++r) {
+    RunResult x;
+    x.unknowns = integ.unknowns();
+    x.solve = settings.formulation == Formulation::constrained ? "full"
+              : integ.tree_recursion()                         ? "tree"
+              : integ.block_assembly()                         ? "blocks"
+              : integ.bordered()                               ? "bordered"
+                                                               : "explicit";
+    integrate::State s = integ.initial_state();
+    x.steps = static_cast<int>(std::lround(settings.t_end / settings.dt));
+    Clock::duration stepping{};
+    long iterations = 0;
+    for (int i = 0; i < x.steps; ++i) {
+      const auto t0 = Clock::now();
+      const auto st = integ.step(s);
+      stepping += Clock::now() - t0;
+      iterations += st.iterations;
+      x.max_violation = std::max(x.max_violation, sys.constraints(s.q).lpNorm<Eigen::Infinity>());
+    }
+    x.seconds = seconds(stepping);
+    x.iterations_per_step = double(iterations) / std::max(1, x.steps);
+    slowest = std::max(slowest, x.seconds);
+    if (r == 0 || x.seconds < best.seconds) best = x;
+  }
+  best.spread = (slowest - best.seconds) / best.seconds;
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  try {
+    model::Model m = io::read_model(o.model);
+    if (o.t_end > 0) m.solver.t_end = o.t_end;
+    const auto sys = system::System::compile(m);
+    fmt::print("model {}: n = {}, m = {}, n - m = {}, dt = {}, t_end = {}\n", o.model, sys.n(),
+               sys.m_selected(), sys.n() - sys.m_selected(), m.solver.dt, m.solver.t_end);
+    if (o.run) {
+      fmt::print("\n{:<15} {:>9} {:>8} {:>6} {:>9} {:>7} {:>8} {:>9} {:>10} {:>9}\n", "formulation",
+                 "solve", "unknowns", "steps", "time_s", "spread", "it/step", "ms/iter",
+                 "x_realtime", "max|Phi|");
+      double t_con = 0.0, t_rep = 0.0;
+      for (Formulation f : o.formulations) {
+        model::Solver s = m.solver;
+        s.formulation = f;
+        const RunResult r = run(sys, s, o.repeat);
+        fmt::print(
+            "{:<15} {:>9} {:>8} {:>6} {:>9.3f} {:>6.0f}% {:>8.3f} {:>9.4f} {:>10.2f} {:>9.2e}\n",
+            model::to_string(f), r.solve, r.unknowns, r.steps, r.seconds, 100 * r.spread,
+            r.iterations_per_step, 1e3 * r.seconds / (r.steps * r.iterations_per_step),
+            s.t_end / r.seconds, r.max_violation);
+        if (f == Formulation::constrained) t_con = r.seconds;
+        if (f == Formulation::reparametrized) t_rep = r.seconds;
+      }
+      if (t_con > 0 && t_rep > 0)
+        fmt::print("\nCPU time constrained / reparametrized = {:.2f}  (DNSM-III Table 4: 2.3)\n",
+                   t_con / t_rep);
+    }
+    if (!o.cond_dts.empty()) {
+      fmt::print("\ncondition number of the Newton matrix, first step (2-norm, dense SVD)\n");
+      fmt::print("{:<15} {:>8} {:>11} {:>12} {:>12} {:>12} {:>4}\n", "formulation", "dt", "size",
+                 "cond_start", "cond_conv", "scaled_conv", "it");
+      for (Formulation f : o.formulations)
+        for (double dt : o.cond_dts) {
+          model::Solver s = m.solver;
+          s.formulation = f;
+          s.dt = dt;
+          const auto c = bench::newton_condition(sys, s);
+          fmt::print("{:<15} {:>8.0e} {:>11} {:>12.4e} {:>12.4e} {:>12.4e} {:>4}\n",
+                     model::to_string(f), dt, fmt::format("{}x{}", c.rows, c.cols), c.at_start,
+                     c.converged, c.converged_scaled, c.iterations);
+        }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "model_bench: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
