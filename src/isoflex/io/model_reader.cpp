@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "isoflex/io/surface_reader.hpp"
+#include "isoflex/io/yaml_fields.hpp"
 #include "isoflex/loads/time_function.hpp"
 
 namespace isoflex::io {
@@ -33,7 +34,6 @@ using model::Probe;
 using model::Shape;
 using model::ShapeKind;
 
-constexpr double kTriadTolerance = 1e-9;          // orthonormality of `orientation`
 constexpr double kPerpendicularTolerance = 1e-9;  // |cos| of axis and axis2 (universal)
 constexpr double kTriangleTolerance = 1e-12;      // relative slack in the triangle inequalities
 constexpr double kParallelTolerance = 1e-6;       // d1 of a beam: |cos| with a segment < 1 − this
@@ -41,23 +41,6 @@ constexpr int kMaxBeamElements = 10'000'000;      // per beam; keeps node counts
 
 constexpr const char* kBracketMessage =
     "must not contain '[' or ']' (they mark beam nodes, as in crank[3])";
-
-std::string join(const std::string& path, std::string_view key) {
-  return path.empty() ? std::string(key) : path + "." + std::string(key);
-}
-
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
-std::string list_names(std::initializer_list<const char*> names) {
-  std::string s;
-  for (const char* n : names) {
-    if (!s.empty()) s += ", ";
-    s += n;
-  }
-  return s;
-}
 
 constexpr std::initializer_list<const char*> kJointTypeNames = {
     "spherical", "revolute", "prismatic",     "cylindrical", "planar",
@@ -81,9 +64,9 @@ bool needs_point(JointType t) {
   return t != JointType::rigid && t != JointType::fixed;
 }
 
-class Reader {
+class Reader : YamlFields {
  public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
+  explicit Reader(std::string file) : YamlFields(std::move(file)) {}
 
   Model read(const YAML::Node& root) {
     if (!root.IsMap())
@@ -93,7 +76,7 @@ class Reader {
                {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
                 "distributed_loads", "probes", "surfaces"});
     Model m;
-    m.file = file_;
+    m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
     if (const auto n = root["gravity"]) m.gravity = vec3(n, "gravity");
     if (const auto n = root["solver"]) read_solver(n, m.solver);
@@ -127,123 +110,12 @@ class Reader {
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i)));
-    m.surfaces = read_surfaces(root["surfaces"], file_);  // surface_reader.cpp
+    m.surfaces = read_surfaces(root["surfaces"], file());  // surface_reader.cpp
     return m;
   }
 
  private:
-  // ---- messages ---------------------------------------------------------------------------
-
-  // 1-based line of `n`. yaml-cpp marks an empty value (`mass:` with nothing after it) at the
-  // next token, so those take the line of their key, noted by expect_map.
-  int line_of(const YAML::Node& n) const {
-    if (n.IsNull())
-      for (const auto& [node, line] : null_lines_)
-        if (node.is(n)) return line;
-    const int line = n.Mark().line;
-    return line >= 0 ? line + 1 : 1;
-  }
-
-  [[noreturn]] void fail(const YAML::Node& at, const std::string& key,
-                         const std::string& message) const {
-    throw ModelError(file_, line_of(at), key, message);
-  }
-
-  model::Source source(const YAML::Node& n) const { return {file_, line_of(n)}; }
-
-  // ---- structure --------------------------------------------------------------------------
-
-  void expect_map(const YAML::Node& n, const std::string& path) const {
-    if (!n.IsMap()) fail(n, path, "expected a mapping of keys");
-    for (auto it = n.begin(); it != n.end(); ++it)
-      if (it->second.IsNull()) null_lines_.emplace_back(it->second, line_of(it->first));
-  }
-
-  // Every key of the mapping `n` must be one of `allowed` and appear once.
-  void check_keys(const YAML::Node& n, const std::string& path,
-                  std::initializer_list<const char*> allowed) const {
-    std::map<std::string, int> seen;
-    for (auto it = n.begin(); it != n.end(); ++it) {
-      const YAML::Node key = it->first;
-      if (!key.IsScalar()) fail(key, path, "keys must be plain names");
-      const std::string& name = key.Scalar();
-      bool known = false;
-      for (const char* a : allowed) known = known || name == a;
-      if (!known)
-        fail(key, join(path, name), "unknown key (valid keys: " + list_names(allowed) + ")");
-      if (const auto [pos, inserted] = seen.emplace(name, line_of(key)); !inserted)
-        fail(key, join(path, name), fmt::format("duplicate key (first at line {})", pos->second));
-    }
-  }
-
-  YAML::Node require(const YAML::Node& map, const std::string& path, const char* key) const {
-    const YAML::Node n = map[key];
-    if (!n) fail(map, join(path, key), "missing required key");
-    return n;
-  }
-
-  // An optional list; an empty value (`joints:` with nothing after it) is an empty list.
-  YAML::Node optional_list(const YAML::Node& root, const char* key) const {
-    const YAML::Node n = root[key];
-    if (!n || n.IsNull()) return YAML::Node(YAML::NodeType::Undefined);
-    if (!n.IsSequence()) fail(n, key, "expected a list");
-    return n;
-  }
-
-  // ---- scalars and vectors ----------------------------------------------------------------
-
-  std::string string(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, "expected a string");
-    return n.Scalar();
-  }
-
-  double number(const YAML::Node& n, const std::string& key) const {
-    double x = 0.0;
-    if (!n.IsScalar() || !YAML::convert<double>::decode(n, x)) fail(n, key, "expected a number");
-    if (!std::isfinite(x)) fail(n, key, "must be a finite number");
-    return x;
-  }
-
-  double positive(const YAML::Node& n, const std::string& key) const {
-    const double x = number(n, key);
-    if (!(x > 0.0)) fail(n, key, fmt::format("must be > 0, got {}", x));
-    return x;
-  }
-
-  int integer(const YAML::Node& n, const std::string& key, int min) const {
-    int k = 0;
-    if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");
-    if (k < min) fail(n, key, fmt::format("must be >= {}, got {}", min, k));
-    return k;
-  }
-
-  bool boolean(const YAML::Node& n, const std::string& key) const {
-    bool b = false;
-    if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b)) fail(n, key, "expected true or false");
-    return b;
-  }
-
-  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected a list of 3 numbers [x, y, z]");
-    Vec3 v;
-    for (std::size_t i = 0; i < 3; ++i) v(i) = number(n[i], indexed(key, i));
-    return v;
-  }
-
-  Vec3 positive_vec3(const YAML::Node& n, const std::string& key) const {
-    const Vec3 v = vec3(n, key);
-    for (std::size_t i = 0; i < 3; ++i)
-      if (!(v(i) > 0.0)) fail(n[i], indexed(key, i), fmt::format("must be > 0, got {}", v(i)));
-    return v;
-  }
-
-  // A nonzero direction, returned normalized.
-  Vec3 direction(const YAML::Node& n, const std::string& key) const {
-    const Vec3 v = vec3(n, key);
-    const double norm = v.stableNorm();
-    if (!(norm > 0.0)) fail(n, key, "must be a nonzero vector");
-    return v / norm;
-  }
+  // ---- values and blocks (YamlFields: structure, scalars, vectors) --------------------------
 
   // Three time functions (numbers or expression strings in t), each compiled once to validate.
   std::array<std::string, 3> functions(const YAML::Node& n, const std::string& key) const {
@@ -333,24 +205,13 @@ class Reader {
     }
 
     b.position = vec3(require(n, p, "position"), join(p, "position"));
-    if (const auto v = n["orientation"]) b.orientation = triad(v, join(p, "orientation"));
+    if (const auto v = n["orientation"])
+      b.orientation = triad(v, join(p, "orientation"), "principal axes [d1, d2, d3]");
     if (const auto v = n["velocity"]) b.velocity = vec3(v, join(p, "velocity"));
     if (const auto v = n["angular_velocity"])
       b.angular_velocity = vec3(v, join(p, "angular_velocity"));
     if (const auto v = n["shape"]) b.shape = read_shape(v, join(p, "shape"));
     return b;
-  }
-
-  // Rows of the YAML list are d₁, d₂, d₃; they become the columns of the returned matrix.
-  Mat3 triad(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3)
-      fail(n, key, "expected a list of the three principal axes [d1, d2, d3]");
-    Mat3 R;
-    for (std::size_t i = 0; i < 3; ++i) R.col(i) = vec3(n[i], indexed(key, i));
-    const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-    if (!(defect <= kTriadTolerance) || !(R.determinant() > 0.0))
-      fail(n, key, "orientation is not an orthonormal right-handed triad");
-    return R;
   }
 
   Shape read_shape(const YAML::Node& n, const std::string& p) const {
@@ -715,13 +576,11 @@ class Reader {
     int node_count = 0;
   };
 
-  std::string file_;
   std::map<std::string, int> body_lines_;  // name → line of its definition
   std::map<std::string, std::pair<YAML::Node, std::string>> body_names_;  // name → (node, key)
   std::map<std::string, BeamInfo> beams_;
   std::map<std::string, int> joint_lines_;
   std::map<std::string, int> probe_lines_;
-  mutable std::vector<std::pair<YAML::Node, int>> null_lines_;  // empty values → their key's line
 };
 
 }  // namespace

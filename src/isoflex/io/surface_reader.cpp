@@ -18,6 +18,7 @@
 #include "isoflex/geometry/refinement.hpp"
 #include "isoflex/io/cad/cad_checks.hpp"
 #include "isoflex/io/cad/cad_reader.hpp"
+#include "isoflex/io/yaml_fields.hpp"
 
 namespace isoflex::io {
 
@@ -25,29 +26,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kTriadTolerance = 1e-9;  // orthonormality of `placement.orientation`, as bodies
 // Control points of one surface after refinement; keeps a mistyped refinement from exhausting
 // the memory (a million points are three million unknowns of a shell).
 constexpr double kMaxSurfacePoints = 1e6;
 constexpr std::initializer_list<const char*> kBuiltinTypes = {
     "rectangle", "cylinder_sector", "sphere_sector", "hemisphere", "disc"};
-
-std::string join(const std::string& path, std::string_view key) {
-  return path.empty() ? std::string(key) : path + "." + std::string(key);
-}
-
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
-std::string list_names(std::initializer_list<const char*> names) {
-  std::string s;
-  for (const char* n : names) {
-    if (!s.empty()) s += ", ";
-    s += n;
-  }
-  return s;
-}
 
 double radians(double degrees) {
   return degrees / 180.0 * std::numbers::pi;  // exact for 90, 180, 360 (÷180 first)
@@ -57,11 +40,11 @@ const char* direction_name(std::size_t d) {
   return d == 0 ? "u" : "v";
 }
 
-// The same helpers, checks and messages as the model reader (model_reader.cpp).
-class SurfaceReader {
+// The same checks and messages as the model reader (YamlFields).
+class SurfaceReader : YamlFields {
  public:
   explicit SurfaceReader(std::string file)
-      : file_(std::move(file)), base_dir_(fs::path(file_).parent_path()) {}
+      : YamlFields(std::move(file)), base_dir_(fs::path(this->file()).parent_path()) {}
 
   std::vector<model::Surface> read(const YAML::Node& list) {
     std::vector<model::Surface> out;
@@ -73,92 +56,6 @@ class SurfaceReader {
   }
 
  private:
-  // ---- messages and structure (as in model_reader.cpp) -------------------------------------
-
-  int line_of(const YAML::Node& n) const {
-    if (n.IsNull())
-      for (const auto& [node, line] : null_lines_)
-        if (node.is(n)) return line;
-    const int line = n.Mark().line;
-    return line >= 0 ? line + 1 : 1;
-  }
-
-  [[noreturn]] void fail(const YAML::Node& at, const std::string& key,
-                         const std::string& message) const {
-    throw ModelError(file_, line_of(at), key, message);
-  }
-
-  void expect_map(const YAML::Node& n, const std::string& path) {
-    if (!n.IsMap()) fail(n, path, "expected a mapping of keys");
-    for (auto it = n.begin(); it != n.end(); ++it)
-      if (it->second.IsNull()) null_lines_.emplace_back(it->second, line_of(it->first));
-  }
-
-  void check_keys(const YAML::Node& n, const std::string& path,
-                  std::initializer_list<const char*> allowed) const {
-    std::map<std::string, int> seen;
-    for (auto it = n.begin(); it != n.end(); ++it) {
-      const YAML::Node key = it->first;
-      if (!key.IsScalar()) fail(key, path, "keys must be plain names");
-      const std::string& name = key.Scalar();
-      bool known = false;
-      for (const char* a : allowed) known = known || name == a;
-      if (!known)
-        fail(key, join(path, name), "unknown key (valid keys: " + list_names(allowed) + ")");
-      if (const auto [pos, inserted] = seen.emplace(name, line_of(key)); !inserted)
-        fail(key, join(path, name), fmt::format("duplicate key (first at line {})", pos->second));
-    }
-  }
-
-  YAML::Node require(const YAML::Node& map, const std::string& path, const char* key) const {
-    const YAML::Node n = map[key];
-    if (!n) fail(map, join(path, key), "missing required key");
-    return n;
-  }
-
-  std::string string(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(n, key, "expected a string");
-    return n.Scalar();
-  }
-
-  double number(const YAML::Node& n, const std::string& key) const {
-    double x = 0.0;
-    if (!n.IsScalar() || !YAML::convert<double>::decode(n, x)) fail(n, key, "expected a number");
-    if (!std::isfinite(x)) fail(n, key, "must be a finite number");
-    return x;
-  }
-
-  double positive(const YAML::Node& n, const std::string& key) const {
-    const double x = number(n, key);
-    if (!(x > 0.0)) fail(n, key, fmt::format("must be > 0, got {}", x));
-    return x;
-  }
-
-  int integer(const YAML::Node& n, const std::string& key, int min) const {
-    int k = 0;
-    if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");
-    if (k < min) fail(n, key, fmt::format("must be >= {}, got {}", min, k));
-    return k;
-  }
-
-  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected a list of 3 numbers [x, y, z]");
-    Vec3 v;
-    for (std::size_t i = 0; i < 3; ++i) v(i) = number(n[i], indexed(key, i));
-    return v;
-  }
-
-  Mat3 triad(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3)
-      fail(n, key, "expected a list of the three axes [e1, e2, e3]");
-    Mat3 R;
-    for (std::size_t i = 0; i < 3; ++i) R.col(i) = vec3(n[i], indexed(key, i));
-    const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-    if (!(defect <= kTriadTolerance) || !(R.determinant() > 0.0))
-      fail(n, key, "orientation is not an orthonormal right-handed triad");
-    return R;
-  }
-
   // A list of two integers ≥ 0, [u, v].
   std::array<int, 2> pair_uv(const YAML::Node& n, const std::string& key) const {
     if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected a list of 2 integers [u, v]");
@@ -171,7 +68,7 @@ class SurfaceReader {
     expect_map(n, p);
     check_keys(n, p, {"name", "cad", "builtin", "refine", "placement"});
     model::Surface s;
-    s.source = {file_, line_of(n)};
+    s.source = source(n);
 
     const YAML::Node name = require(n, p, "name");
     s.name = string(name, join(p, "name"));
@@ -435,15 +332,14 @@ class SurfaceReader {
     expect_map(n, p);
     check_keys(n, p, {"origin", "orientation"});
     if (const auto v = n["origin"]) s.origin = vec3(v, join(p, "origin"));
-    if (const auto v = n["orientation"]) s.orientation = triad(v, join(p, "orientation"));
+    if (const auto v = n["orientation"])
+      s.orientation = triad(v, join(p, "orientation"), "axes [e1, e2, e3]");
     for (Vec3& x : surface.points) x = s.origin + s.orientation * x;
   }
 
-  std::string file_;
   fs::path base_dir_;
-  std::map<std::string, int> name_lines_;               // surface name → line of its definition
-  std::map<std::string, CadModel> cad_models_;          // each file read once, by its resolved path
-  std::vector<std::pair<YAML::Node, int>> null_lines_;  // empty values → their key's line
+  std::map<std::string, int> name_lines_;       // surface name → line of its definition
+  std::map<std::string, CadModel> cad_models_;  // each file read once, by its resolved path
 };
 
 }  // namespace

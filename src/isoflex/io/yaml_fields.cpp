@@ -1,0 +1,143 @@
+#include "isoflex/io/yaml_fields.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+namespace isoflex::io {
+
+namespace {
+constexpr double kTriadTolerance = 1e-9;
+}  // namespace
+
+std::string join(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+std::string indexed(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+std::string list_names(std::initializer_list<const char*> names) {
+  std::string s;
+  for (const char* n : names) {
+    if (!s.empty()) s += ", ";
+    s += n;
+  }
+  return s;
+}
+
+int YamlFields::line_of(const YAML::Node& n) const {
+  if (n.IsNull())
+    for (const auto& [node, line] : null_lines_)
+      if (node.is(n)) return line;
+  const int line = n.Mark().line;
+  return line >= 0 ? line + 1 : 1;
+}
+
+void YamlFields::fail(const YAML::Node& at, const std::string& key,
+                      const std::string& message) const {
+  throw ModelError(file_, line_of(at), key, message);
+}
+
+void YamlFields::expect_map(const YAML::Node& n, const std::string& path) const {
+  if (!n.IsMap()) fail(n, path, "expected a mapping of keys");
+  for (auto it = n.begin(); it != n.end(); ++it)
+    if (it->second.IsNull()) null_lines_.emplace_back(it->second, line_of(it->first));
+}
+
+void YamlFields::check_keys(const YAML::Node& n, const std::string& path,
+                            std::initializer_list<const char*> allowed) const {
+  std::map<std::string, int> seen;
+  for (auto it = n.begin(); it != n.end(); ++it) {
+    const YAML::Node key = it->first;
+    if (!key.IsScalar()) fail(key, path, "keys must be plain names");
+    const std::string& name = key.Scalar();
+    bool known = false;
+    for (const char* a : allowed) known = known || name == a;
+    if (!known)
+      fail(key, join(path, name), "unknown key (valid keys: " + list_names(allowed) + ")");
+    if (const auto [pos, inserted] = seen.emplace(name, line_of(key)); !inserted)
+      fail(key, join(path, name), fmt::format("duplicate key (first at line {})", pos->second));
+  }
+}
+
+YAML::Node YamlFields::require(const YAML::Node& map, const std::string& path,
+                               const char* key) const {
+  const YAML::Node n = map[key];
+  if (!n) fail(map, join(path, key), "missing required key");
+  return n;
+}
+
+YAML::Node YamlFields::optional_list(const YAML::Node& root, const char* key) const {
+  const YAML::Node n = root[key];
+  if (!n || n.IsNull()) return YAML::Node(YAML::NodeType::Undefined);
+  if (!n.IsSequence()) fail(n, key, "expected a list");
+  return n;
+}
+
+std::string YamlFields::string(const YAML::Node& n, const std::string& key) const {
+  if (!n.IsScalar()) fail(n, key, "expected a string");
+  return n.Scalar();
+}
+
+double YamlFields::number(const YAML::Node& n, const std::string& key) const {
+  double x = 0.0;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, x)) fail(n, key, "expected a number");
+  if (!std::isfinite(x)) fail(n, key, "must be a finite number");
+  return x;
+}
+
+double YamlFields::positive(const YAML::Node& n, const std::string& key) const {
+  const double x = number(n, key);
+  if (!(x > 0.0)) fail(n, key, fmt::format("must be > 0, got {}", x));
+  return x;
+}
+
+int YamlFields::integer(const YAML::Node& n, const std::string& key, int min) const {
+  int k = 0;
+  if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");
+  if (k < min) fail(n, key, fmt::format("must be >= {}, got {}", min, k));
+  return k;
+}
+
+bool YamlFields::boolean(const YAML::Node& n, const std::string& key) const {
+  bool b = false;
+  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b)) fail(n, key, "expected true or false");
+  return b;
+}
+
+Vec3 YamlFields::vec3(const YAML::Node& n, const std::string& key) const {
+  if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected a list of 3 numbers [x, y, z]");
+  Vec3 v;
+  for (std::size_t i = 0; i < 3; ++i) v(i) = number(n[i], indexed(key, i));
+  return v;
+}
+
+Vec3 YamlFields::positive_vec3(const YAML::Node& n, const std::string& key) const {
+  const Vec3 v = vec3(n, key);
+  for (std::size_t i = 0; i < 3; ++i)
+    if (!(v(i) > 0.0)) fail(n[i], indexed(key, i), fmt::format("must be > 0, got {}", v(i)));
+  return v;
+}
+
+Vec3 YamlFields::direction(const YAML::Node& n, const std::string& key) const {
+  const Vec3 v = vec3(n, key);
+  const double norm = v.stableNorm();
+  if (!(norm > 0.0)) fail(n, key, "must be a nonzero vector");
+  return v / norm;
+}
+
+Mat3 YamlFields::triad(const YAML::Node& n, const std::string& key, const char* what) const {
+  if (!n.IsSequence() || n.size() != 3)
+    fail(n, key, fmt::format("expected a list of the three {}", what));
+  Mat3 R;
+  for (std::size_t i = 0; i < 3; ++i) R.col(i) = vec3(n[i], indexed(key, i));
+  const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(defect <= kTriadTolerance) || !(R.determinant() > 0.0))
+    fail(n, key, "orientation is not an orthonormal right-handed triad");
+  return R;
+}
+
+}  // namespace isoflex::io
