@@ -9,6 +9,7 @@
 
 #include "isoflex/app/progress.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/history_writer.hpp"
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
@@ -148,6 +149,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
 
   const auto& sys = *l->sys;
   integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+  const integrate::StaticEquilibrium statics(sys, m.solver);
   std::vector<std::unique_ptr<integrate::Observer>> observers;
   if (m.output.history) observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
   observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
@@ -158,10 +160,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
 
   io::RunSummary sum;
   sum.model = o.model_file;
-  sum.formulation = model::to_string(m.solver.formulation);
+  sum.formulation = o.statics ? "static" : model::to_string(m.solver.formulation);
   sum.n_coordinates = sys.n();
   sum.n_constraints = sys.m_selected();
-  sum.n_unknowns = integ.unknowns();
+  sum.n_unknowns = o.statics ? statics.unknowns() : integ.unknowns();
   sum.n_redundant_constraints = static_cast<int>(sys.redundant_rows().size());
   sum.dt = m.solver.dt;
   sum.t_end = m.solver.t_end;
@@ -169,7 +171,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
 
   const auto names = body_names(m);
-  auto state = integ.initial_state();
+  auto state = o.statics ? statics.initial_state() : integ.initial_state();
   auto snap = integ.snapshot(state, {}, names);
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
@@ -180,7 +182,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   for (int i = 0; i < steps; ++i) {
     integrate::StepStats st;
     try {
-      st = integ.step(state);
+      st = o.statics ? statics.step(state) : integ.step(state);
     } catch (const integrate::NewtonFailure& e) {
       sum.status = "failed";
       sum.message = e.what();

@@ -14,6 +14,8 @@ struct RunOptions {
   std::string outdir;  // default: out/<model file stem>
   std::optional<model::Formulation> formulation;
   std::optional<double> dt, t_end;
+  // Static equilibrium with load stepping (integrate::StaticEquilibrium): t is a load parameter.
+  bool statics = false;
 };
 
 int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"constrained", "nullspace", "reparametrized"}));
   r->add_option("--dt", run.dt, "time step (overrides the model)");
   r->add_option("--t-end", run.t_end, "end time (overrides the model)");
+  r->add_flag("--static", run.statics,
+              "static equilibrium at t = dt, 2 dt, ..., t_end (t as a load parameter)");
 
   std::string check_file;
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");

@@ -1,0 +1,107 @@
+#include "isoflex/integrate/static_equilibrium.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "isoflex/solve/linear_solver.hpp"
+
+namespace isoflex::integrate {
+
+using system::SpMat;
+
+StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Solver& settings)
+    : sys_(sys), settings_(settings) {}
+
+State StaticEquilibrium::initial_state() const {
+  State s;
+  s.q = sys_.q0();
+  s.v = VecX::Zero(sys_.n());
+  return s;
+}
+
+VecX StaticEquilibrium::evaluate(double t, const VecX& x, SpMat* J) const {
+  const int n = sys_.n(), m = sys_.m_selected();
+  const VecX q = x.head(n), lambda = x.tail(m);
+  SpMat K;
+  // DV(q, q) − f_ext(q, t) = ∇V(q) − f_ext(q, t); K = ½ (∇²V − ∂f_ext/∂q) (see the header).
+  const VecX f = sys_.discrete_force(q, q, t, J ? &K : nullptr);
+  const SpMat G = sys_.jacobian(q);
+  VecX R(n + m);
+  R.head(n) = f + G.transpose() * lambda;  // DNSM-III (9) without M, at q instead of q_{n+½}
+  const VecX phi = sys_.constraints(q);
+  for (int i = 0; i < m; ++i) R(n + i) = phi(sys_.selected_rows()[i]);
+  if (J) {
+    const SpMat A = 2.0 * K + sys_.constraint_hessian(lambda);
+    system::Triplets tr;
+    tr.reserve(A.nonZeros() + 2 * G.nonZeros());
+    for (int c = 0; c < A.outerSize(); ++c)
+      for (SpMat::InnerIterator it(A, c); it; ++it) tr.emplace_back(it.row(), it.col(), it.value());
+    for (int c = 0; c < G.outerSize(); ++c)
+      for (SpMat::InnerIterator it(G, c); it; ++it) {
+        tr.emplace_back(n + it.row(), it.col(), it.value());
+        tr.emplace_back(it.col(), n + it.row(), it.value());
+      }
+    J->resize(n + m, n + m);
+    J->setFromTriplets(tr.begin(), tr.end());
+  }
+  return R;
+}
+
+VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
+  SpMat Js;
+  const VecX R = evaluate(t, x, J ? &Js : nullptr);
+  if (J) *J = MatX(Js);
+  return R;
+}
+
+StepStats StaticEquilibrium::step(State& s) const {
+  const int n = sys_.n(), m = sys_.m_selected();
+  const double t = s.t + settings_.dt;
+  VecX x(n + m);
+  x.head(n) = s.q;
+  x.tail(m) = s.last_unknowns.size() == m ? s.last_unknowns : VecX::Zero(m);
+  const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
+  StepStats st;
+  bool converged = false;
+  SpMat J;
+  for (int it = 0; it <= settings_.max_iterations; ++it) {
+    const VecX R = evaluate(t, x, &J);
+    st.residual = R.lpNorm<Eigen::Infinity>();
+    st.iterations = it;
+    if (!std::isfinite(st.residual)) break;
+    const double ref =
+        std::max(1.0, (sys_.jacobian(x.head(n)).transpose() * x.tail(m)).lpNorm<Eigen::Infinity>());
+    if (st.residual <= settings_.residual_tolerance * ref) {
+      converged = true;
+      break;
+    }
+    if (it == settings_.max_iterations) break;
+    VecX dx;
+    try {
+      dx = solve::solve(J, -R);
+    } catch (const std::exception& e) {
+      throw NewtonFailure(fmt::format("load step {} (t = {:.6g}): {} at Newton iteration {}",
+                                      s.step + 1, t, e.what(), it + 1));
+    }
+    x += dx;
+    if (dx.head(n).lpNorm<Eigen::Infinity>() <= settings_.increment_tolerance * qscale) {
+      st.iterations = it + 1;
+      st.residual = evaluate(t, x, nullptr).lpNorm<Eigen::Infinity>();
+      converged = std::isfinite(st.residual);
+      break;
+    }
+  }
+  if (!converged)
+    throw NewtonFailure(
+        fmt::format("load step {} (t = {:.6g}): static Newton did not converge in {} iterations; "
+                    "residual {:.3e}",
+                    s.step + 1, t, st.iterations, st.residual));
+  s.q = x.head(n);
+  s.last_unknowns = x.tail(m);
+  s.t = t;
+  ++s.step;
+  return st;
+}
+
+}  // namespace isoflex::integrate
