@@ -1,7 +1,6 @@
 // io::read_cad and io::check_patch: the shared CAD files against their exact geometry
 // (tests/data/cad/README.md), OCCT-written round trips, trimmed/converted/reversed faces, errors.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -22,7 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
 #include <gp_Circ.hxx>
@@ -37,6 +35,7 @@
 #include "isoflex/io/cad/cad_checks.hpp"
 #include "isoflex/io/cad/cad_reader.hpp"
 #include "isoflex/io/cad/occt_messages.hpp"
+#include "support/files.hpp"
 
 using namespace isoflex;
 using io::CadError;
@@ -50,22 +49,7 @@ namespace {
 const std::string kData = ISOFLEX_SOURCE_DIR "/tests/data/cad/";
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("isoflex_cad_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream(p) << text;
+  return test::temp_dir("isoflex_cad_", name);
 }
 
 // Control points i + n_u·j and weights of a patch, compared entry by entry to `tol` (absolute).
@@ -237,7 +221,7 @@ TEST(CadReader, ExtensionIsCaseInsensitive) {
 TEST(CadReader, NothingIsPrintedOnStdout) {
   // OCCT prints transfer statistics and parse errors on stdout unless read_cad captures them.
   const fs::path d = temp_dir("quiet");
-  write_text(d / "garbage.stp", "not STEP\n");
+  test::write_text(d / "garbage.stp", "not STEP\n");
   testing::internal::CaptureStdout();
   read_cad(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.igs");
   read_cad(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.stp");
@@ -250,7 +234,7 @@ TEST(CadReader, NothingIsPrintedOnStdout) {
 
 TEST(CadReader, NamesFromStepFacesAndSurfaces) {
   const fs::path d = temp_dir("names_step");
-  std::string text = read_text(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.stp");
+  std::string text = test::read_text(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.stp");
   // Face #17 gets a name; face #97 has none, but its surface #73 has.
   for (auto [from, to] :
        {std::pair<std::string, std::string>{"#17 = ADVANCED_FACE(''",
@@ -260,7 +244,7 @@ TEST(CadReader, NamesFromStepFacesAndSurfaces) {
     ASSERT_NE(at, std::string::npos) << from;
     text.replace(at, from.size(), to);
   }
-  write_text(d / "named.stp", text);
+  test::write_text(d / "named.stp", text);
   const io::CadModel m = read_cad(d / "named.stp");
   ASSERT_EQ(m.patches.size(), 2u);
   EXPECT_EQ(m.patches[0].name, "top flange");
@@ -274,7 +258,7 @@ TEST(CadReader, NamesFromIgesEntityLabels) {
   const fs::path d = temp_dir("names_iges");
   // The entity label is columns 57–64 of a directory entry's second line: label the 144 of the
   // first patch (D3, second line D0000004) and the 128 of the second (D9, line D0000010).
-  std::istringstream in(read_text(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.igs"));
+  std::istringstream in(test::read_text(kData + "l_angle_plate_2patch_L10_b1_b3_deg1.igs"));
   std::string out, line;
   int labelled = 0;
   while (std::getline(in, line)) {
@@ -289,7 +273,7 @@ TEST(CadReader, NamesFromIgesEntityLabels) {
     out += line + "\n";
   }
   ASSERT_EQ(labelled, 2);
-  write_text(d / "named.igs", out);
+  test::write_text(d / "named.igs", out);
   const io::CadModel m = read_cad(d / "named.igs");
   ASSERT_EQ(m.patches.size(), 2u);
   EXPECT_EQ(m.patches[0].name, "FLANGE");
@@ -399,11 +383,11 @@ TEST(CadReader, KeepsTheNumbersOfAFileInMetres) {
   expect_points(m.patches[0].surface, want.points, want.weights, 1e-15);
 
   // The same for STEP: the shared millimetre file relabelled as metres.
-  std::string text = read_text(kData + "quarter_cylinder_R1_L2_deg2_fullprec.stp");
+  std::string text = test::read_text(kData + "quarter_cylinder_R1_L2_deg2_fullprec.stp");
   const std::string mm = "SI_UNIT(.MILLI.,.METRE.)";
   ASSERT_NE(text.find(mm), std::string::npos);
   text.replace(text.find(mm), mm.size(), "SI_UNIT($,.METRE.)");
-  write_text(d / "metres.stp", text);
+  test::write_text(d / "metres.stp", text);
   const io::CadModel c = read_cad(d / "metres.stp");
   EXPECT_EQ(c.length_unit, "metre");
   expect_points(c.patches.at(0).surface, cylinder_points(), cylinder_weights(), 0.0);
@@ -621,10 +605,10 @@ TEST(CadReader, UnknownExtension) {
 
 TEST(CadReader, MalformedFiles) {
   const fs::path d = temp_dir("malformed");
-  write_text(d / "garbage.igs", "this is not an IGES file\n");
-  write_text(d / "garbage.stp", "this is not a STEP file\n");
-  const std::string stp = read_text(kData + "quarter_cylinder_R1_L2_deg2.stp");
-  write_text(d / "truncated.stp", stp.substr(0, stp.size() / 2));
+  test::write_text(d / "garbage.igs", "this is not an IGES file\n");
+  test::write_text(d / "garbage.stp", "this is not a STEP file\n");
+  const std::string stp = test::read_text(kData + "quarter_cylinder_R1_L2_deg2.stp");
+  test::write_text(d / "truncated.stp", stp.substr(0, stp.size() / 2));
   EXPECT_NE(error_of(d / "garbage.igs").find("cannot be read as IGES"), std::string::npos);
   EXPECT_NE(error_of(d / "garbage.stp").find("cannot be read as STEP"), std::string::npos);
   EXPECT_NE(error_of(d / "truncated.stp").find("cannot be read as STEP"), std::string::npos);

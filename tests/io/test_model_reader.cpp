@@ -14,11 +14,14 @@
 
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/files.hpp"
+#include "support/model_errors.hpp"
 
 using namespace isoflex;
 using isoflex::io::ModelError;
 using isoflex::io::read_model;
 using isoflex::io::read_model_string;
+using isoflex::test::error_of;
 
 namespace {
 
@@ -30,16 +33,6 @@ std::string lines(std::initializer_list<std::string_view> ls) {
     s += '\n';
   }
   return s;
-}
-
-// what() of the ModelError thrown for `yaml` (read as "m.yaml").
-std::string error_of(const std::string& yaml) {
-  try {
-    read_model_string(yaml, "m.yaml");
-  } catch (const ModelError& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 // A valid body list occupying lines 1-5.
@@ -229,10 +222,7 @@ TEST(ModelReader, DefaultsOfAMinimalModel) {
 
 TEST(ModelReader, ReadsAFileAndRecordsItsName) {
   const std::string path = temp_path("valid.yaml");
-  {
-    std::ofstream out(path);
-    out << kValid;
-  }
+  test::write_text(path, kValid);
   const model::Model m = read_model(path);
   std::filesystem::remove(path);
   EXPECT_EQ(m.file, path);
@@ -257,10 +247,7 @@ TEST(ModelReader, MissingFile) {
 
 TEST(ModelReader, ErrorInAFileNamesTheFile) {
   const std::string path = temp_path("bad.yaml");
-  {
-    std::ofstream out(path);
-    out << with_bodies({"probes:", "  - name: p", "    body: nobody"});
-  }
+  test::write_text(path, with_bodies({"probes:", "  - name: p", "    body: nobody"}));
   std::string what = "(no error)";
   try {
     read_model(path);

@@ -9,19 +9,21 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <random>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/io/nurbs_vtk_writer.hpp"
+#include "support/files.hpp"
+#include "support/vtu.hpp"
 
 namespace fs = std::filesystem;
 using namespace isoflex;
+using test::data_array;
+using test::read_text;
 
 namespace {
 
@@ -59,44 +61,15 @@ double bernstein_closed(int p, int k, double t) {
   return binom * std::pow(t, k) * std::pow(1.0 - t, p - k);
 }
 
-class TempDir {
+// test::TempDir isoflex_nurbs_vtk_<test>_<address of the object>.
+class TempDir : public test::TempDir {
  public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / (std::string("isoflex_nurbs_vtk_") + info->name() + "_" +
-                                         std::to_string(reinterpret_cast<std::uintptr_t>(this)));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  TempDir()
+      : test::TempDir(fs::temp_directory_path() /
+                      (std::string("isoflex_nurbs_vtk_") +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                       std::to_string(reinterpret_cast<std::uintptr_t>(this)))) {}
 };
-
-std::string read(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// The numbers of <DataArray ... Name="name" ...> … </DataArray>.
-std::vector<double> data_array(const std::string& xml, const std::string& name) {
-  const auto at = xml.find("Name=\"" + name + "\"");
-  if (at == std::string::npos) return {};
-  const auto begin = xml.find('>', at) + 1;
-  const auto end = xml.find("</DataArray>", begin);
-  std::istringstream in(xml.substr(begin, end - begin));
-  std::vector<double> v;
-  double x;
-  while (in >> x) v.push_back(x);
-  return v;
-}
 
 // The value of the first attribute key="…".
 std::string attribute(const std::string& xml, const std::string& key) {
@@ -149,7 +122,7 @@ TEST(NurbsVtk, RationalBezierCellsOfQuarterCylinder) {
   TempDir dir;
   const fs::path file = dir.path() / "cyl.vtu";
   io::write_nurbs_bezier_vtu(file, s, {height, pos});
-  const std::string xml = read(file);
+  const std::string xml = read_text(file);
 
   ASSERT_EQ(attribute(xml, "NumberOfCells"), "4");
   ASSERT_EQ(attribute(xml, "NumberOfPoints"), "36");
@@ -263,7 +236,7 @@ TEST(NurbsVtk, TessellationOfQuarterCylinder) {
   TempDir dir;
   const fs::path file = dir.path() / "cyl_tess.vtu";
   io::write_nurbs_tessellated_vtu(file, s, n, {angle, height});
-  const std::string xml = read(file);
+  const std::string xml = read_text(file);
   const int np = (2 * n + 1) * (2 * n + 1), nc = (2 * n) * (2 * n);
   ASSERT_EQ(attribute(xml, "NumberOfPoints"), std::to_string(np));
   ASSERT_EQ(attribute(xml, "NumberOfCells"), std::to_string(nc));

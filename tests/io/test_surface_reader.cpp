@@ -1,14 +1,12 @@
 // The `surfaces` list of model files (io/surface_reader.cpp): CAD patches and built-in shapes,
 // refinement and placement, the suitability findings, and every error with its located message.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <string_view>
 
@@ -16,11 +14,14 @@
 #include "isoflex/io/cad/cad_reader.hpp"
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/files.hpp"
+#include "support/model_errors.hpp"
 
 using namespace isoflex;
 using io::ModelError;
 using io::read_model;
 using io::read_model_string;
+using test::error_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -38,28 +39,8 @@ std::string with_surfaces(std::initializer_list<std::string_view> more) {
   return s;
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    read_model_string(yaml, "m.yaml");
-  } catch (const ModelError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("isoflex_surf_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return test::temp_dir("isoflex_surf_", name);
 }
 
 // Largest distance between a and b at a 7 × 7 grid of parameters of their (common) domain.
@@ -157,7 +138,7 @@ TEST(SurfaceReader, CadPatchByNameAndFindings) {
 
 TEST(SurfaceReader, ReversedStepFaceIsFlaggedAndWarned) {
   const fs::path d = temp_dir("reversed");
-  std::string text = read_text(kCylinder);
+  std::string text = test::read_text(kCylinder);
   const std::string from = "#17 = ADVANCED_FACE('',(#18),#32,.T.);";
   ASSERT_NE(text.find(from), std::string::npos);
   text.replace(text.find(from), from.size(), "#17 = ADVANCED_FACE('',(#18),#32,.F.);");
@@ -436,7 +417,7 @@ TEST(SurfaceReader, RefineAndPlacementErrors) {
 
 // The example of docs/model-files.md "surfaces" reads (roof.stp: a roof of the test data).
 TEST(SurfaceReader, DocumentationExampleIsValid) {
-  const std::string doc = read_text(std::string(ISOFLEX_SOURCE_DIR) + "/docs/model-files.md");
+  const std::string doc = test::read_text(std::string(ISOFLEX_SOURCE_DIR) + "/docs/model-files.md");
   const auto section = doc.find("## `surfaces`");
   ASSERT_NE(section, std::string::npos);
   const auto begin = doc.find("```yaml\n", section);

@@ -18,38 +18,27 @@
 #include "isoflex/io/summary_writer.hpp"
 #include "isoflex/io/vtk_writer.hpp"
 #include "isoflex/math/rotation.hpp"
+#include "support/files.hpp"
+#include "support/vtu.hpp"
 
 namespace fs = std::filesystem;
 using namespace isoflex;
+using test::data_array;
+using test::read_text;
 
 namespace {
 
-// A fresh directory below the system temp directory, removed afterwards.
-class TempDir {
+// test::TempDir isoflex_<suite>_<test> below the system temp directory.
+class TempDir : public test::TempDir {
  public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("isoflex_") + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
+  TempDir() : test::TempDir(fs::temp_directory_path() / ("isoflex_" + current_test())) {}
 
  private:
-  fs::path path_;
+  static std::string current_test() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    return std::string(info->test_suite_name()) + "_" + info->name();
+  }
 };
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::vector<std::string> read_lines(const fs::path& p) {
   std::ifstream in(p);
@@ -126,18 +115,6 @@ long attribute(const std::string& xml, const std::string& name) {
   std::smatch m;
   if (!std::regex_search(xml, m, re)) return -1;
   return std::stol(m[1]);
-}
-
-// Numbers of the DataArray with Name="name".
-std::vector<double> data_array(const std::string& xml, const std::string& name) {
-  const auto tag = xml.find("Name=\"" + name + "\"");
-  if (tag == std::string::npos) return {};
-  const auto begin = xml.find('>', tag) + 1;
-  const auto end = xml.find("</DataArray>", begin);
-  std::istringstream in(xml.substr(begin, end - begin));
-  std::vector<double> values;
-  for (double v; in >> v;) values.push_back(v);
-  return values;
 }
 
 struct Vtu {

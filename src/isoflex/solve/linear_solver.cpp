@@ -35,12 +35,37 @@ bool use_dense(const SpMat& A) {
   const double density = double(A.nonZeros()) / (double(A.rows()) * double(A.cols()));
   return A.rows() <= 64 || density > 0.15;
 }
+
+// The sparsity pattern a fixed-pattern factorization last analysed (outer and inner indices of
+// the compressed matrix, and its rows), and how often a pattern was analysed.
+struct KeptPattern {
+  std::vector<int> outer, inner;
+  int rows = -1, analyses = 0;
+};
+
+// Runs solver.analyzePattern(A) unless the compressed A has the kept pattern, and then keeps
+// A's pattern.
+template <class Solver>
+void analyze_if_new_pattern(Solver& solver, KeptPattern& kept, const SpMat& A) {
+  const int* o = A.outerIndexPtr();
+  const int* i = A.innerIndexPtr();
+  const bool same = kept.rows == A.rows() &&
+                    kept.outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
+                    kept.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
+                    std::equal(kept.outer.begin(), kept.outer.end(), o) &&
+                    std::equal(kept.inner.begin(), kept.inner.end(), i);
+  if (same) return;
+  solver.analyzePattern(A);
+  kept.outer.assign(o, o + A.outerSize() + 1);
+  kept.inner.assign(i, i + A.nonZeros());
+  kept.rows = static_cast<int>(A.rows());
+  ++kept.analyses;
+}
 }  // namespace
 
 struct FixedPatternLU::Impl {
   Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
-  std::vector<int> outer, inner;
-  int rows = -1, analyses = 0;
+  KeptPattern pattern;
 };
 
 FixedPatternLU::FixedPatternLU() : impl_(std::make_unique<Impl>()) {}
@@ -48,27 +73,14 @@ FixedPatternLU::~FixedPatternLU() = default;
 FixedPatternLU::FixedPatternLU(FixedPatternLU&&) noexcept = default;
 FixedPatternLU& FixedPatternLU::operator=(FixedPatternLU&&) noexcept = default;
 int FixedPatternLU::analyses() const {
-  return impl_->analyses;
+  return impl_->pattern.analyses;
 }
 
 VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternLU: matrix not compressed");
   if (use_dense(A)) return solve::solve(A, b);
   Impl& m = *impl_;
-  const int* o = A.outerIndexPtr();
-  const int* i = A.innerIndexPtr();
-  const bool same = m.rows == A.rows() &&
-                    m.outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
-                    m.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
-                    std::equal(m.outer.begin(), m.outer.end(), o) &&
-                    std::equal(m.inner.begin(), m.inner.end(), i);
-  if (!same) {
-    m.lu.analyzePattern(A);
-    m.outer.assign(o, o + A.outerSize() + 1);
-    m.inner.assign(i, i + A.nonZeros());
-    m.rows = static_cast<int>(A.rows());
-    ++m.analyses;
-  }
+  analyze_if_new_pattern(m.lu, m.pattern, A);
   m.lu.factorize(A);
   if (m.lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
   VecX x = m.lu.solve(b);
@@ -78,8 +90,7 @@ VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
 
 struct FixedPatternLDLT::Impl {
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
-  std::vector<int> outer, inner;
-  int rows = -1, analyses = 0;
+  KeptPattern pattern;
 };
 
 FixedPatternLDLT::FixedPatternLDLT() : impl_(std::make_unique<Impl>()) {}
@@ -87,26 +98,13 @@ FixedPatternLDLT::~FixedPatternLDLT() = default;
 FixedPatternLDLT::FixedPatternLDLT(FixedPatternLDLT&&) noexcept = default;
 FixedPatternLDLT& FixedPatternLDLT::operator=(FixedPatternLDLT&&) noexcept = default;
 int FixedPatternLDLT::analyses() const {
-  return impl_->analyses;
+  return impl_->pattern.analyses;
 }
 
 VecX FixedPatternLDLT::solve(const SpMat& A, const VecX& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternLDLT: matrix not compressed");
   Impl& m = *impl_;
-  const int* o = A.outerIndexPtr();
-  const int* i = A.innerIndexPtr();
-  const bool same = m.rows == A.rows() &&
-                    m.outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
-                    m.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
-                    std::equal(m.outer.begin(), m.outer.end(), o) &&
-                    std::equal(m.inner.begin(), m.inner.end(), i);
-  if (!same) {
-    m.ldlt.analyzePattern(A);
-    m.outer.assign(o, o + A.outerSize() + 1);
-    m.inner.assign(i, i + A.nonZeros());
-    m.rows = static_cast<int>(A.rows());
-    ++m.analyses;
-  }
+  analyze_if_new_pattern(m.ldlt, m.pattern, A);
   m.ldlt.factorize(A);
   if (m.ldlt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
   return m.ldlt.solve(b);
