@@ -4,6 +4,8 @@
 // non-negativity.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -334,4 +336,133 @@ TEST(NurbsBasis, SurfaceBasisDerivativesMatchCentralDifferences) {
       }
     }
   }
+}
+
+namespace {
+// d^k N_a, k = 0..2, for all functions of a knot vector at u, by the literal recursion.
+std::vector<std::array<long double, 3>> literal_ders(const KnotVector& kv, double u) {
+  const int last = kv.element_spans().back();
+  std::vector<std::array<long double, 3>> d(kv.n_basis());
+  for (int i = 0; i < kv.n_basis(); ++i)
+    for (int k = 0; k < 3; ++k) d[i][k] = cox_de_boor_der(kv.knots(), i, kv.degree(), u, k, last);
+  return d;
+}
+
+// Parameters for the exactness tests: the ends, every distinct knot and random points of the
+// domain.
+std::vector<double> test_parameters(std::mt19937& g, const KnotVector& kv, int n_random) {
+  std::vector<double> us = {kv.front(), kv.back()};
+  for (double k : kv.breakpoints()) us.push_back(k);
+  std::uniform_real_distribution<double> U(kv.front(), kv.back());
+  for (int s = 0; s < n_random; ++s) us.push_back(U(g));
+  return us;
+}
+}  // namespace
+
+// surface_basis factors the quotient rule into 1D functions and vectorizes it
+// (nurbs_surface.cpp); here the rational derivatives are computed the plain way over the whole
+// patch, the quotient rule of IGA-thesis (4.12) in long double on the literal recursion (4.3):
+//   R = A/W, R_ξ = (A_ξ − R W_ξ)/W, R_ξξ = (A_ξξ − 2 R_ξ W_ξ − R W_ξξ)/W,
+//   R_ξη = (A_ξη − R_ξ W_η − R_η W_ξ − R W_ξη)/W.
+// Degrees 0 … 5 (also p ≠ q), repeated knots, points exactly at the knots and at the ends.
+TEST(NurbsBasis, SurfaceBasisMatchesPlainQuotientRuleOnLiteralRecursion) {
+  std::mt19937 g(8);
+  double worst = 0.0;
+  for (auto [p, q] :
+       {std::pair{0, 0}, {0, 2}, {1, 1}, {2, 1}, {2, 2}, {3, 3}, {2, 4}, {4, 4}, {5, 5}, {5, 3}}) {
+    for (bool rational : {false, true}) {
+      const NurbsSurface s = random_surface(g, p, q, rational);
+      const auto us = test_parameters(g, s.u, 6), vs = test_parameters(g, s.v, 6);
+      for (double u : us)
+        for (double v : vs) {
+          const auto Nu = literal_ders(s.u, u), Nv = literal_ders(s.v, v);
+          // A_ij and its derivatives (order: value, ξ, η, ξξ, ξη, ηη), and the sums W.
+          const int pairs[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+          std::vector<std::array<long double, 6>> A(s.n_u() * s.n_v());
+          std::array<long double, 6> W{};
+          for (int j = 0; j < s.n_v(); ++j)
+            for (int i = 0; i < s.n_u(); ++i)
+              for (int d = 0; d < 6; ++d) {
+                const int idx = s.index(i, j);
+                A[idx][d] = s.weights[idx] * Nu[i][pairs[d][0]] * Nv[j][pairs[d][1]];
+                W[d] += A[idx][d];
+              }
+          const SurfaceBasis B = surface_basis(s, u, v);
+          ASSERT_EQ(B.R.cols(), (p + 1) * (q + 1));
+          std::array<double, 6> scale{};  // size of each row, for a relative comparison
+          for (int d = 0; d < 6; ++d) scale[d] = std::max(1.0, B.R.row(d).cwiseAbs().maxCoeff());
+          for (int k = 0; k < B.R.cols(); ++k) {
+            const auto& a = A[B.global_index(s, k)];
+            const long double R = a[0] / W[0];
+            const long double Ru = (a[1] - R * W[1]) / W[0];
+            const long double Rv = (a[2] - R * W[2]) / W[0];
+            const long double Ruu = (a[3] - 2 * Ru * W[1] - R * W[3]) / W[0];
+            const long double Ruv = (a[4] - Ru * W[2] - Rv * W[1] - R * W[4]) / W[0];
+            const long double Rvv = (a[5] - 2 * Rv * W[2] - R * W[5]) / W[0];
+            const long double ref[6] = {R, Ru, Rv, Ruu, Ruv, Rvv};
+            for (int d = 0; d < 6; ++d) {
+              const double err = std::abs(static_cast<double>(B.R(d, k) - ref[d])) / scale[d];
+              worst = std::max(worst, err);
+              EXPECT_LT(err, 1e-12) << "p=" << p << " q=" << q << " u=" << u << " v=" << v
+                                    << " k=" << k << " row " << d;
+            }
+          }
+        }
+    }
+  }
+  RecordProperty("worst_rel_error", sci(worst));
+}
+
+TEST(NurbsBasis, CurveBasisMatchesPlainQuotientRuleOnLiteralRecursion) {
+  std::mt19937 g(9);
+  double worst = 0.0;
+  for (int p = 0; p <= 6; ++p) {
+    const NurbsCurve c = random_curve(g, p, true);
+    for (double u : test_parameters(g, c.knots, 20)) {
+      const auto N = literal_ders(c.knots, u);
+      long double W[3] = {0, 0, 0};
+      for (int i = 0; i < c.n(); ++i)
+        for (int k = 0; k < 3; ++k) W[k] += c.weights[i] * N[i][k];
+      const CurveBasis B = curve_basis(c, u);
+      for (int a = 0; a <= p; ++a) {
+        const int i = B.global_index(c, a);
+        const long double R = c.weights[i] * N[i][0] / W[0];
+        const long double R1 = (c.weights[i] * N[i][1] - R * W[1]) / W[0];
+        const long double R2 = (c.weights[i] * N[i][2] - 2 * R1 * W[1] - R * W[2]) / W[0];
+        const long double ref[3] = {R, R1, R2};
+        for (int k = 0; k < 3; ++k) {
+          const double scale = std::max(1.0, B.R.row(k).cwiseAbs().maxCoeff());
+          const double err = std::abs(static_cast<double>(B.R(k, a) - ref[k])) / scale;
+          worst = std::max(worst, err);
+          EXPECT_LT(err, 1e-12) << "p=" << p << " u=" << u << " a=" << a << " k=" << k;
+        }
+      }
+    }
+  }
+  RecordProperty("worst_rel_error", sci(worst));
+}
+
+// The fast path writes exactly what bspline_basis returns; outside the domain both bases clamp,
+// and a NaN parameter throws.
+TEST(NurbsBasis, FastPathsClampAndRejectNaN) {
+  std::mt19937 g(10);
+  for (int p = 0; p <= kMaxDegree; ++p) {
+    const KnotVector kv = random_knots(g, p, 4);
+    for (double u : test_parameters(g, kv, 10)) {
+      const Basis1D B = bspline_basis(kv, u, 2);
+      BasisArray d;
+      bspline_basis_unchecked(kv, kv.find_span(u), u, d);
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j <= p; ++j) EXPECT_EQ(d[k][j], B.ders(k, j)) << "p=" << p << " u=" << u;
+    }
+  }
+  const NurbsSurface s = random_surface(g, 3, 2, true);  // ξ ∈ [0, 1], η ∈ [−1, 2]
+  EXPECT_EQ(surface_basis(s, -0.5, 7.0).R, surface_basis(s, 0.0, 2.0).R);
+  EXPECT_EQ(surface_basis(s, 1.5, -3.0).R, surface_basis(s, 1.0, -1.0).R);
+  EXPECT_THROW(surface_basis(s, std::nan(""), 0.5), std::invalid_argument);
+  EXPECT_THROW(surface_basis(s, 0.5, std::nan("")), std::invalid_argument);
+  const NurbsCurve c = random_curve(g, 3, true);
+  EXPECT_EQ(curve_basis(c, -1.0).R, curve_basis(c, 0.0).R);
+  EXPECT_EQ(curve_basis(c, 2.0).R, curve_basis(c, 1.0).R);
+  EXPECT_THROW(curve_basis(c, std::nan("")), std::invalid_argument);
 }

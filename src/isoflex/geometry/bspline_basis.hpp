@@ -23,4 +23,10 @@ struct Basis1D {
 // for n_derivatives outside [0, 2] or a NaN u.
 Basis1D bspline_basis(const KnotVector& kv, double u, int n_derivatives = 2);
 
+// The kernel of bspline_basis, for loops over many points (surface_basis, curve_basis):
+// d[k][j] = d^k N_{span−p+j} / du^k, k = 0, 1, 2, j = 0 … p, into a fixed-size array. No checks:
+// u must lie in [front, back] and span must be kv.find_span(u).
+using BasisArray = double[3][kMaxDegree + 1];
+void bspline_basis_unchecked(const KnotVector& kv, int span, double u, BasisArray& d);
+
 }  // namespace isoflex::geometry

@@ -1,5 +1,6 @@
 #include "isoflex/geometry/nurbs_curve.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -40,31 +41,35 @@ void NurbsCurve::validate() const {
 
 // Rational basis (4.9) and its derivatives by the quotient rule, with A_a = w_a N_a and
 // W = Σ_a A_a (the homogeneous weight):
-//   R = A/W,  R' = (A' − R W')/W,  R'' = (A'' − 2 R' W' − R W'')/W.
+//   R = A/W,  R' = (A' − R W')/W,  R'' = (A'' − 2 R' W' − R W'')/W,
+// i.e. with ω' = W'/W, ω'' = W''/W (substitute R into R', then R and R' into R''):
+//   R = w N/W,  R' = w (N' − ω' N)/W,  R'' = w (N'' − 2 ω' N' + (2 ω'² − ω'') N)/W,
+// one division per point (as in surface_basis, nurbs_surface.cpp).
 CurveBasis curve_basis(const NurbsCurve& c, double xi) {
   check_sizes(c);
+  if (std::isnan(xi)) throw std::invalid_argument("curve_basis: parameter is NaN");
+  xi = std::clamp(xi, c.knots.front(), c.knots.back());  // no extrapolation, as bspline_basis
   const int p = c.degree();
-  const Basis1D N = bspline_basis(c.knots, xi, 2);
   CurveBasis out;
-  out.span = N.span;
-  out.R.resize(3, p + 1);
+  out.span = c.knots.find_span(xi);
+  BasisArray N;
+  bspline_basis_unchecked(c.knots, out.span, xi, N);
+  const double* w = c.weights.data() + (out.span - p);
   double W = 0.0, W1 = 0.0, W2 = 0.0;
   for (int a = 0; a <= p; ++a) {
-    const double w = c.weights[N.span - p + a];
-    out.R(0, a) = w * N.ders(0, a);
-    out.R(1, a) = w * N.ders(1, a);
-    out.R(2, a) = w * N.ders(2, a);
-    W += out.R(0, a);
-    W1 += out.R(1, a);
-    W2 += out.R(2, a);
+    W += w[a] * N[0][a];
+    W1 += w[a] * N[1][a];
+    W2 += w[a] * N[2][a];
   }
+  const double iW = 1.0 / W, o1 = W1 * iW, o2 = W2 * iW;
+  const double k1 = 2.0 * o1, k0 = k1 * o1 - o2;
+  out.R.resize(3, p + 1);
+  double* R = out.R.data();  // row major: row k starts at k·(p+1)
   for (int a = 0; a <= p; ++a) {
-    const double R0 = out.R(0, a) / W;
-    const double R1 = (out.R(1, a) - R0 * W1) / W;
-    const double R2 = (out.R(2, a) - 2.0 * R1 * W1 - R0 * W2) / W;
-    out.R(0, a) = R0;
-    out.R(1, a) = R1;
-    out.R(2, a) = R2;
+    const double r = w[a] * iW;
+    R[a] = r * N[0][a];
+    R[p + 1 + a] = r * (N[1][a] - o1 * N[0][a]);
+    R[2 * (p + 1) + a] = r * (N[2][a] - k1 * N[1][a] + k0 * N[0][a]);
   }
   return out;
 }

@@ -41,8 +41,8 @@ struct SurfaceBasis {
 };
 
 // Parameters outside the domain are clamped (see bspline_basis). Both throw
-// std::invalid_argument if the numbers of points or weights do not match the knot vectors;
-// weights are checked by validate() only (call it once where a surface enters).
+// std::invalid_argument for a NaN parameter or if the numbers of points or weights do not match
+// the knot vectors; weights are checked by validate() only (call it once where a surface enters).
 SurfaceBasis surface_basis(const NurbsSurface& s, double xi, double eta);
 SurfacePoint evaluate(const NurbsSurface& s, double xi, double eta);
 
