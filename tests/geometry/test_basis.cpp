@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -15,19 +14,13 @@
 #include "isoflex/geometry/nurbs_curve.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "support/finite_difference.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using namespace isoflex::geometry;
 using namespace isoflex::test;
 
 namespace {
-
-// Scientific notation for RecordProperty (std::to_string prints 0.000000 for 1e-15).
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
 
 // (4.3) literally, recursive, with 0/0 := 0; N_{i,0} = 1 on [ξ_i, ξ_{i+1}), and on the last
 // non-empty span also at its right end (the convention of find_span for u = back()).
@@ -55,35 +48,12 @@ double cox_de_boor_der(const std::vector<double>& U, int i, int p, double u, int
   return v;
 }
 
-// Random open knot vector on [a, b] with some repeated interior knots (multiplicity ≤ p).
-KnotVector random_knots(std::mt19937& g, int p, int n_interior, double a = 0.0, double b = 1.0) {
-  std::uniform_real_distribution<double> U(a, b);
-  std::vector<double> inner;
-  for (int k = 0; k < n_interior; ++k) {
-    const double x = U(g);
-    const int m = 1 + static_cast<int>(g() % std::max(1, p));  // multiplicity 1..p
-    for (int r = 0; r < m; ++r) inner.push_back(x);
-  }
-  std::sort(inner.begin(), inner.end());
-  std::vector<double> k(p + 1, a);
-  k.insert(k.end(), inner.begin(), inner.end());
-  k.insert(k.end(), p + 1, b);
-  return KnotVector(p, k);
-}
-
 // All n_basis functions (zeros outside the support) as one global vector.
 VecX global_basis(const KnotVector& kv, double u, int order) {
   const Basis1D B = bspline_basis(kv, u, 2);
   VecX N = VecX::Zero(kv.n_basis());
   for (int j = 0; j <= kv.degree(); ++j) N(B.span - kv.degree() + j) = B.ders(order, j);
   return N;
-}
-
-// Distance of u to the nearest knot (finite differences must not straddle a knot).
-double knot_distance(const KnotVector& kv, double u) {
-  double d = 1e300;
-  for (double k : kv.knots()) d = std::min(d, std::abs(u - k));
-  return d;
 }
 
 }  // namespace
@@ -200,15 +170,9 @@ TEST(BsplineBasis, InvalidInputThrows) {
 }
 
 namespace {
+// This file's random curves: knots on [0, 1], weights in [0.3, 2.5].
 NurbsCurve random_curve(std::mt19937& g, int p, bool rational) {
-  NurbsCurve c;
-  c.knots = random_knots(g, p, 3);
-  std::uniform_real_distribution<double> W(0.3, 2.5);
-  for (int i = 0; i < c.knots.n_basis(); ++i) {
-    c.points.push_back(random_vector(g, 3));
-    c.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return c;
+  return random_nurbs_curve(g, random_knots(g, p, 3), rational, 0.3, 2.5);
 }
 VecX global_curve_basis(const NurbsCurve& c, double u, int order) {
   const CurveBasis B = curve_basis(c, u);
@@ -261,16 +225,11 @@ TEST(NurbsBasis, EqualWeightsGiveBsplines) {
 }
 
 namespace {
+// This file's random surfaces: ξ ∈ [0, 1], η ∈ [−1, 2], weights in [0.3, 2.5].
 NurbsSurface random_surface(std::mt19937& g, int p, int q, bool rational) {
-  NurbsSurface s;
-  s.u = random_knots(g, p, 2);
-  s.v = random_knots(g, q, 3, -1.0, 2.0);
-  std::uniform_real_distribution<double> W(0.3, 2.5);
-  for (int k = 0; k < s.n_u() * s.n_v(); ++k) {
-    s.points.push_back(random_vector(g, 3));
-    s.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return s;
+  KnotVector u = random_knots(g, p, 2);
+  KnotVector v = random_knots(g, q, 3, -1.0, 2.0);
+  return random_nurbs_surface(g, std::move(u), std::move(v), rational, 0.3, 2.5);
 }
 // All rational basis functions (row `row` of SurfaceBasis::R) as a global vector.
 VecX global_surface_basis(const NurbsSurface& s, double u, double v, int row) {

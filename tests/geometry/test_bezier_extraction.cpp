@@ -6,21 +6,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <random>
 #include <string>
 
 #include "isoflex/geometry/bezier_extraction.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
+#include "support/geometry.hpp"
 
 namespace isoflex::geometry {
 namespace {
 
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
+using namespace isoflex::test;
 
 // IGA-thesis (4.2).
 double bernstein_closed(int p, int k, double t) {
@@ -122,24 +118,6 @@ TEST(BezierExtraction, CurveOperatorsReproduceCoxDeBoor) {
     }
   }
   RecordProperty("worst_basis_error", sci(worst));
-}
-
-// Half cylinder (radius R, axis z): ξ is two 90° rational quadratic arcs joined at a double knot,
-// η a quadratic B-spline along the axis with a non-uniform interior knot.
-NurbsSurface half_cylinder(double R, double H) {
-  NurbsSurface s;
-  s.u = KnotVector(2, {0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0});
-  s.v = KnotVector(2, {0.0, 0.0, 0.0, 0.35, 1.0, 1.0, 1.0});
-  const double c = std::sqrt(0.5);
-  const Vec3 arc[5] = {{R, 0, 0}, {R, R, 0}, {0, R, 0}, {-R, R, 0}, {-R, 0, 0}};
-  const double w[5] = {1.0, c, 1.0, c, 1.0};
-  const double z[4] = {0.0, 0.2 * H, 0.6 * H, H};
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 5; ++i) {
-      s.points.push_back(arc[i] + Vec3(0, 0, z[j]));
-      s.weights.push_back(w[i]);
-    }
-  return s;
 }
 
 // A rational bicubic × quadratic patch with scattered weights and a double knot in ξ.

@@ -4,36 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <numbers>
 #include <random>
 #include <string>
 
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using namespace isoflex::geometry;
+using namespace isoflex::test;
 
 namespace {
-
-// Scientific notation for RecordProperty (std::to_string prints 0.000000 for 1e-15).
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
-constexpr double kPi = std::numbers::pi;
-
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // Largest |‖x(ξ) − c‖ − R| over random parameters and the ends, for a curve.
 double curve_radius_error(const NurbsCurve& c, const Vec3& center, double R, std::mt19937& g) {

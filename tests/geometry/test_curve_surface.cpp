@@ -4,13 +4,13 @@
 // (4.11); affine invariance; validate() and size checks.
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <random>
 #include <string>
 
 #include "isoflex/geometry/nurbs_curve.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "support/finite_difference.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using namespace isoflex::geometry;
@@ -18,54 +18,15 @@ using namespace isoflex::test;
 
 namespace {
 
-// Scientific notation for RecordProperty (std::to_string prints 0.000000 for 1e-15).
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
-
-// Open knot vector on [a, b] with jittered, well-separated interior knots (spans ≥ (b−a)/(2(n+1)),
-// so finite differences see moderate derivatives) of random multiplicity 1..p.
-KnotVector random_knots(std::mt19937& g, int p, int n_interior, double a, double b) {
-  std::uniform_real_distribution<double> J(-0.25, 0.25);
-  std::vector<double> k(p + 1, a);
-  for (int i = 1; i <= n_interior; ++i) {
-    const double x = a + (b - a) * (i + J(g)) / (n_interior + 1);
-    const int m = 1 + static_cast<int>(g() % std::max(1, p));
-    k.insert(k.end(), m, x);
-  }
-  k.insert(k.end(), p + 1, b);
-  return KnotVector(p, k);
-}
-
+// This file's random curves and surfaces: jittered knots, weights in [0.3, 2.5].
 NurbsCurve random_curve(std::mt19937& g, int p, bool rational) {
-  NurbsCurve c;
-  c.knots = random_knots(g, p, 3, -0.5, 2.0);
-  std::uniform_real_distribution<double> W(0.3, 2.5);
-  for (int i = 0; i < c.knots.n_basis(); ++i) {
-    c.points.push_back(random_vector(g, 3));
-    c.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return c;
+  return random_nurbs_curve(g, jittered_knots(g, p, 3, -0.5, 2.0), rational, 0.3, 2.5);
 }
 
 NurbsSurface random_surface(std::mt19937& g, int p, int q, bool rational) {
-  NurbsSurface s;
-  s.u = random_knots(g, p, 2, 0.0, 1.0);
-  s.v = random_knots(g, q, 2, 1.0, 3.0);
-  std::uniform_real_distribution<double> W(0.3, 2.5);
-  for (int k = 0; k < s.n_u() * s.n_v(); ++k) {
-    s.points.push_back(random_vector(g, 3));
-    s.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return s;
-}
-
-double knot_distance(const KnotVector& kv, double u) {
-  double d = 1e300;
-  for (double k : kv.knots()) d = std::min(d, std::abs(u - k));
-  return d;
+  KnotVector u = jittered_knots(g, p, 2, 0.0, 1.0);
+  KnotVector v = jittered_knots(g, q, 2, 1.0, 3.0);
+  return random_nurbs_surface(g, std::move(u), std::move(v), rational, 0.3, 2.5);
 }
 
 // Richardson-extrapolated central difference (4 D(h/2) − D(h))/3, truncation O(h⁴): the plain
@@ -74,16 +35,6 @@ template <class F>
 Vec3 richardson(F&& f, double u, double h) {
   auto D = [&](double k) -> Vec3 { return (f(u + k) - f(u - k)) / (2.0 * k); };
   return (4.0 * D(h / 2) - D(h)) / 3.0;
-}
-
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -231,12 +182,7 @@ TEST(SurfaceEvaluate, IsoLineIsTheCurveOfItsRow) {
   // At η = a knot where N_j(η) = 1 (the open end), S(ξ, η) is the NURBS curve of row j.
   std::mt19937 g(37);
   const NurbsSurface s = random_surface(g, 3, 2, true);
-  NurbsCurve row;
-  row.knots = s.u;
-  for (int i = 0; i < s.n_u(); ++i) {
-    row.points.push_back(s.points[s.index(i, 0)]);
-    row.weights.push_back(s.weights[s.index(i, 0)]);
-  }
+  const NurbsCurve row = surface_row(s, 0);
   for (double u : {0.0, 0.21, 0.5, 0.93, 1.0}) {
     const SurfacePoint P = evaluate(s, u, 1.0);
     const CurvePoint C = evaluate(row, u);

@@ -8,21 +8,10 @@
 #include <string>
 
 #include "isoflex/geometry/knot_vector.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex::geometry;
-
-namespace {
-// Message of the std::invalid_argument thrown by f (empty if none).
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using namespace isoflex::test;
 
 TEST(KnotVector, BasicQueriesOfThesisFigure42) {
   // Fig. 4.2: p = 2, (0,0,0,0.2,0.4,0.6,0.8,0.8,1,1,1): 11 knots, 8 functions, 5 elements.

@@ -4,43 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <numbers>
 #include <random>
 #include <string>
 
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/geometry/projection.hpp"
+#include "support/geometry.hpp"
 
 namespace isoflex::geometry {
 namespace {
 
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
-
-constexpr double kPi = std::numbers::pi;
-
-// Half cylinder of radius R about the z axis, angle 0 … π, height 0 … H: ξ two rational
-// quadratic 90° arcs joined by a double knot, η a quadratic B-spline along the axis.
-NurbsSurface half_cylinder(double R, double H) {
-  NurbsSurface s;
-  s.u = KnotVector(2, {0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0});
-  s.v = KnotVector(2, {0.0, 0.0, 0.0, 0.35, 1.0, 1.0, 1.0});
-  const double c = std::sqrt(0.5);
-  const Vec3 arc[5] = {{R, 0, 0}, {R, R, 0}, {0, R, 0}, {-R, R, 0}, {-R, 0, 0}};
-  const double w[5] = {1.0, c, 1.0, c, 1.0};
-  const double z[4] = {0.0, 0.2 * H, 0.6 * H, H};
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 5; ++i) {
-      s.points.push_back(arc[i] + Vec3(0, 0, z[j]));
-      s.weights.push_back(w[i]);
-    }
-  return s;
-}
+using namespace isoflex::test;
 
 // Quarter cylinder with a single rational span in ξ (the textbook 90° arc), linear in η.
 NurbsSurface quarter_cylinder(double R, double H) {

@@ -3,21 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <string>
 
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/geometry/quadrature.hpp"
+#include "support/geometry.hpp"
 
 namespace isoflex::geometry {
 namespace {
 
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
+using namespace isoflex::test;
 
 double integrate_monomial(const GaussRule& r, int k) {
   double s = 0.0;

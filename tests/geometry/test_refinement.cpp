@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <map>
 #include <random>
 #include <string>
@@ -14,6 +13,7 @@
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/geometry/refinement.hpp"
 #include "support/finite_difference.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using namespace isoflex::geometry;
@@ -21,49 +21,17 @@ using namespace isoflex::test;
 
 namespace {
 
-// Scientific notation for RecordProperty (std::to_string prints 0.000000 for 1e-15).
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2e", v);
-  return buf;
-}
-
-KnotVector random_knots(std::mt19937& g, int p, int n_interior, int max_mult) {
-  std::uniform_real_distribution<double> U(0.05, 0.95);
-  std::vector<double> inner;
-  for (int k = 0; k < n_interior; ++k) {
-    const double x = U(g);
-    const int m = 1 + static_cast<int>(g() % std::max(1, max_mult));
-    for (int r = 0; r < m; ++r) inner.push_back(x);
-  }
-  std::sort(inner.begin(), inner.end());
-  std::vector<double> k(p + 1, 0.0);
-  k.insert(k.end(), inner.begin(), inner.end());
-  k.insert(k.end(), p + 1, 1.0);
-  return KnotVector(p, k);
-}
-
+// This file's random curves and surfaces: knots on [0, 1] drawn from [0.05, 0.95], weights in
+// [0.4, 2].
 NurbsCurve random_curve(std::mt19937& g, int p, int n_interior, bool rational) {
-  NurbsCurve c;
-  c.knots = random_knots(g, p, n_interior, p);
-  std::uniform_real_distribution<double> W(0.4, 2.0);
-  for (int i = 0; i < c.knots.n_basis(); ++i) {
-    c.points.push_back(random_vector(g, 3));
-    c.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return c;
+  return random_nurbs_curve(g, random_knots(g, p, n_interior, 0.0, 1.0, 0.05, 0.95), rational, 0.4,
+                            2.0);
 }
 
 NurbsSurface random_surface(std::mt19937& g, int p, int q, bool rational) {
-  NurbsSurface s;
-  s.u = random_knots(g, p, 2, p);
-  s.v = random_knots(g, q, 3, q);
-  std::uniform_real_distribution<double> W(0.4, 2.0);
-  for (int k = 0; k < s.n_u() * s.n_v(); ++k) {
-    s.points.push_back(random_vector(g, 3));
-    s.weights.push_back(rational ? W(g) : 1.0);
-  }
-  return s;
+  KnotVector u = random_knots(g, p, 2, 0.0, 1.0, 0.05, 0.95);
+  KnotVector v = random_knots(g, q, 3, 0.0, 1.0, 0.05, 0.95);
+  return random_nurbs_surface(g, std::move(u), std::move(v), rational, 0.4, 2.0);
 }
 
 // Largest deviation of b from a at random parameters (and the domain corners): position
@@ -129,16 +97,6 @@ std::vector<double> merged(std::vector<double> a, const std::vector<double>& b) 
 
 int n_distinct_interior(const KnotVector& kv) {
   return static_cast<int>(kv.breakpoints().size()) - 2;
-}
-
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -355,12 +313,7 @@ TEST(Refinement, SurfaceLineAlgorithmMatchesCurveAlgorithm) {
   // Refining a surface in u is refining each row as a curve: check row 1 of the net.
   std::mt19937 g(27);
   const NurbsSurface s = random_surface(g, 2, 3, true);
-  NurbsCurve row;
-  row.knots = s.u;
-  for (int i = 0; i < s.n_u(); ++i) {
-    row.points.push_back(s.points[s.index(i, 1)]);
-    row.weights.push_back(s.weights[s.index(i, 1)]);
-  }
+  const NurbsCurve row = surface_row(s, 1);
   const NurbsSurface e = elevate_degree(s, Direction::u, 1);
   const NurbsCurve er = elevate_degree(row, 1);
   for (int i = 0; i < e.n_u(); ++i) {
