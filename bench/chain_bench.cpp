@@ -26,6 +26,7 @@
 #include "isoflex/model/model.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/system/system.hpp"
+#include "newton_condition.hpp"
 
 namespace {
 
@@ -291,57 +292,24 @@ struct CondResult {
 };
 
 // Condition numbers of the Newton matrix of the first step, at the Newton start and at the
-// converged solution (reached by plain Newton on residual(), dense LU).
+// converged solution (bench/newton_condition.hpp).
 CondResult condition(const system::System& sys, int N, Formulation f, double dt) {
-  CondResult c;
-  c.N = N;
-  c.f = f;
-  c.dt = dt;
   const auto t0 = Clock::now();
   model::Solver settings;
   settings.formulation = f;
   settings.dt = dt;
-  const integrate::EnergyMomentumIntegrator integ(sys, settings);
-  const integrate::State s = integ.initial_state();
-  VecX x = integ.start_unknowns(s);
-  MatX J;
-  VecX R = integ.residual(s, x, &J);
-  c.size_rows = static_cast<int>(J.rows());
-  c.size_cols = static_cast<int>(J.cols());
-  c.cond_start = solve::condition_number(J);
-  // Converged like the integrator: residual at round-off relative to the momentum scale, or an
-  // increment at round-off level.
-  const double ref = std::max(1.0, (2.0 / dt) * (sys.mass() * s.q).lpNorm<Eigen::Infinity>() +
-                                       (sys.mass() * s.v).lpNorm<Eigen::Infinity>());
-  for (int it = 0; it < settings.max_iterations; ++it) {
-    if (R.lpNorm<Eigen::Infinity>() <= settings.residual_tolerance * ref) break;
-    const VecX dx = J.partialPivLu().solve(-R);
-    x += dx;
-    R = integ.residual(s, x, &J);
-    c.newton_iterations = it + 1;
-    if (dx.lpNorm<Eigen::Infinity>() <=
-        settings.increment_tolerance * std::max(1.0, x.lpNorm<Eigen::Infinity>()))
-      break;
-  }
-  c.final_residual = R.lpNorm<Eigen::Infinity>();
-  c.cond_converged = solve::condition_number(J);
-  // Diagnostic only (the solver does not scale): the same matrix with the Δt-dependence taken
-  // out of its blocks. Constrained: dynamics rows × Δt/2, λ columns × 2/Δt², giving
-  // [M + O(Δt²), Gᵀ; G, 0]. Null space: constraint rows × 2/Δt, giving (2/Δt)[𝖯ᵀM + O(Δt²); G].
-  // Reparametrized: unscaled (it has no constraint rows for a tree).
-  const int n = sys.n();
-  MatX Js = J;
-  if (f == Formulation::constrained) {
-    Js.topRows(n) *= 0.5 * dt;
-    Js.rightCols(Js.cols() - n) *= 2.0 / (dt * dt);
-  } else if (f == Formulation::nullspace) {
-    const int mc = static_cast<int>(sys.selected_rows().size());
-    Js.bottomRows(mc) *= 2.0 / dt;
-  } else {
-    const int mc = static_cast<int>(sys.cut_rows().size());
-    if (mc > 0) Js.bottomRows(mc) *= 2.0 / dt;
-  }
-  c.cond_scaled = solve::condition_number(Js);
+  const bench::NewtonCondition nc = bench::newton_condition(sys, settings);
+  CondResult c;
+  c.N = N;
+  c.f = f;
+  c.dt = dt;
+  c.size_rows = nc.rows;
+  c.size_cols = nc.cols;
+  c.cond_start = nc.at_start;
+  c.cond_converged = nc.converged;
+  c.cond_scaled = nc.converged_scaled;
+  c.newton_iterations = nc.iterations;
+  c.final_residual = nc.final_residual;
   c.seconds = seconds(Clock::now() - t0);
   return c;
 }

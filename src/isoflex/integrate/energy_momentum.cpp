@@ -20,6 +20,29 @@ struct EnergyMomentumIntegrator::StepContext {
   MatX W, U;
 };
 
+namespace {
+// Entries of P_tree = P_int E (57) as a pattern: 12 rows per node times the ν-entries on its path
+// to its root (the τ of every tree joint above it and the root's twist).
+long long structural_null_space_entries(const system::System& sys) {
+  std::vector<int> parent_joint(sys.node_count(), -1);
+  for (std::size_t j = 0; j < sys.joints().size(); ++j)
+    if (sys.joints()[j].tree) parent_joint[sys.joints()[j].child] = static_cast<int>(j);
+  long long entries = 0;
+  for (int i = 0; i < sys.node_count(); ++i) {
+    long long width = 0;
+    int node = i;
+    while (node >= 0 && parent_joint[node] >= 0) {
+      const auto& joint = sys.joints()[parent_joint[node]];
+      width += joint.joint.freedom_count();
+      node = joint.parent;
+    }
+    if (node >= 0) width += 6;  // a root node's twist
+    entries += 12 * width;
+  }
+  return entries;
+}
+}  // namespace
+
 EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
@@ -36,9 +59,10 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
         "the tree recursion needs the reparametrized formulation on a tree whose elements couple "
         "only tree neighbours");
   // 𝖯 has a block per (node, ancestor joint): few entries for shallow trees (a beam's nodes are
-  // roots of their own), O(N²) for a chain. The explicit form wins while 𝖯 stays sparse.
+  // roots of their own), O(N²) for a chain. The explicit form wins while 𝖯 stays sparse; counted
+  // structurally (not at q₀, where aligned bodies leave entries that are zero only there).
   const auto dense_null_space = [&] {
-    return sys.k() >= 48 && sys.tree_null_space(sys.q0()).nonZeros() > 20 * sys.n();
+    return sys.k() >= 48 && structural_null_space_entries(sys) > 20LL * sys.n();
   };
   bordered_ =
       !tree_ && possible &&
