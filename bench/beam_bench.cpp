@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/math/frame_node.hpp"
 #include "isoflex/model/model.hpp"
@@ -61,33 +62,6 @@ struct Options {
   std::exit(2);
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= s.size()) {
-    const std::size_t comma = s.find(',', start);
-    const std::size_t end = comma == std::string::npos ? s.size() : comma;
-    if (end > start) out.push_back(s.substr(start, end - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
-long parse_int(const std::string& s, const std::string& what) {
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0' || v <= 0) usage(fmt::format("bad {} '{}'", what, s));
-  return v;
-}
-
-double parse_double(const std::string& s, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || !(v >= 0)) usage(fmt::format("bad {} '{}'", what, s));
-  return v;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -98,25 +72,20 @@ Options parse(int argc, char** argv) {
     };
     if (a == "--n") {
       o.ns.clear();
-      for (const auto& s : split(value())) o.ns.push_back(static_cast<int>(parse_int(s, "N")));
+      for (const auto& s : bench::split(value()))
+        o.ns.push_back(static_cast<int>(bench::parse_int(s, "N", usage)));
       if (o.ns.empty()) usage("--n needs at least one N");
     } else if (a == "--steps") {
-      o.steps = static_cast<int>(parse_int(value(), "step count"));
+      o.steps = static_cast<int>(bench::parse_int(value(), "step count", usage));
     } else if (a == "--formulations") {
-      o.formulations.clear();
-      for (const auto& s : split(value())) {
-        const auto f = model::formulation_from_string(s);
-        if (!f) usage(fmt::format("unknown formulation '{}'", s));
-        o.formulations.push_back(*f);
-      }
-      if (o.formulations.empty()) usage("--formulations needs at least one formulation");
+      o.formulations = bench::parse_formulations(value(), usage);
     } else if (a == "--dt") {
-      o.dt = parse_double(value(), "time step");
+      o.dt = bench::parse_double(value(), "time step", usage);
       if (!(o.dt > 0)) usage("--dt must be positive");
     } else if (a == "--repeat") {
-      o.repeat = static_cast<int>(parse_int(value(), "repeat count"));
+      o.repeat = static_cast<int>(bench::parse_int(value(), "repeat count", usage));
     } else if (a == "--max-seconds") {
-      o.max_seconds = parse_double(value(), "time limit");
+      o.max_seconds = bench::parse_double(value(), "time limit", usage);
     } else if (a == "--reduced") {
       const std::string v = value();
       if (v == "automatic")

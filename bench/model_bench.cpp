@@ -15,10 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "newton_condition.hpp"
@@ -48,13 +48,6 @@ struct Options {
   std::exit(2);
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
-  return out;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -65,19 +58,15 @@ Options parse(int argc, char** argv) {
     };
     try {
       if (a == "--formulations") {
-        o.formulations.clear();
-        for (const auto& name : split(value())) {
-          const auto f = model::formulation_from_string(name);
-          if (!f) usage("unknown formulation " + name);
-          o.formulations.push_back(*f);
-        }
+        o.formulations = bench::parse_formulations(value(), usage);
       } else if (a == "--repeat") {
         o.repeat = std::stoi(value());
         if (o.repeat < 1) usage("--repeat must be >= 1");
       } else if (a == "--t-end") {
         o.t_end = std::stod(value());
       } else if (a == "--cond") {
-        for (const auto& d : split(value())) o.cond_dts.push_back(std::stod(d));
+        for (const auto& d : bench::split(value()))
+          o.cond_dts.push_back(bench::parse_double(d, "time step", usage));
       } else if (a == "--no-run") {
         o.run = false;
       } else if (!a.empty() && a[0] == '-') {
