@@ -95,6 +95,22 @@ TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
   EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
 }
 
+// `history: false` writes no time histories (history.csv, probes.csv) and `vtk_every: 0` no VTK;
+// summary.json, with the probes' final values, is always written.
+TEST(Cli, OutputSwitches) {
+  const fs::path d = temp_dir("switches");
+  std::ofstream(d / "m.yaml") << with(kGood, "solver: {dt: 0.01, t_end: 0.2}",
+                                      "solver: {dt: 0.01, t_end: 0.2}\noutput: {history: false, "
+                                      "vtk_every: 0}");
+  const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(fs::exists(d / "out/history.csv"));
+  EXPECT_FALSE(fs::exists(d / "out/probes.csv"));
+  EXPECT_FALSE(fs::exists(d / "out/results.pvd"));
+  EXPECT_NE(read(d / "out/summary.json").find("\"bob\": {\"position\""), std::string::npos);
+  fs::remove_all(d);
+}
+
 TEST(Cli, CheckPrintsCountsAndForest) {
   const auto r = run("check " + std::string(ISOFLEX_SOURCE_DIR) + "/examples/four_bar/model.yaml");
   ASSERT_EQ(r.code, 0) << r.out;

@@ -151,9 +151,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   const integrate::StaticEquilibrium statics(sys, m.solver);
   std::vector<std::unique_ptr<integrate::Observer>> observers;
-  if (m.output.history) observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
-  observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
-  if (m.output.history) observers.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
+  if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
+    observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
+    observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
+    observers.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
+  }
   if (m.output.vtk_every > 0)
     observers.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
   observers.push_back(std::make_unique<ProgressBar>(m.solver.t_end, err));
