@@ -157,7 +157,7 @@ VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) 
     return *du;
   }
   if (J.blocks) return blocks_->solve(J.A, -R);
-  if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return solve::solve(J.A, -R);
+  if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return newton_lu_.solve(J.A, -R);
   VecX b = VecX::Zero(J.A.rows());
   b.segment(J.row, R.size()) = -R;
   const int size = settings_.formulation == F::nullspace ? sys_.n() : sys_.k();
