@@ -112,7 +112,7 @@ class EnergyMomentumIntegrator {
   // λ̂ of reduced_stiffness: the fill-reducing ordering of 𝖦𝖦ᵀ is kept while its pattern is
   // unchanged (a cache; an integrator is not shared between threads).
   mutable solve::NormalEquations normal_equations_;
-  mutable solve::FixedPatternLU newton_lu_;  // column ordering kept while the pattern is
+  mutable solve::FixedPatternLU newton_lu_;  // keeps its column ordering while J keeps its pattern
   std::optional<system::TreeNewtonSolver> tree_;
   std::optional<ReducedNewtonMatrix> blocks_;
 };
