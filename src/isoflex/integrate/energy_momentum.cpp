@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/math/frame_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
@@ -310,49 +311,20 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
                                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
   VecX x = start_unknowns(s);
-  StepStats st;
   NewtonMatrix J;
-  bool converged = false;
-  for (int it = 0; it <= settings_.max_iterations; ++it) {
-    const VecX R = evaluate(c, x, &J, bordered_ || tree_.has_value());
-    st.residual = R.lpNorm<Eigen::Infinity>();
-    st.iterations = it;
-    if (!std::isfinite(st.residual)) break;
-    if (st.residual <= settings_.residual_tolerance * ref) {
-      converged = true;
-      break;
-    }
-    if (it == settings_.max_iterations) break;
-    VecX dx;
-    try {
-      dx = correction(J, R);
-    } catch (const std::exception& e) {
-      throw NewtonFailure(
-          fmt::format("step {} (t = {:.6g}): {} at Newton iteration {}, residual {:.3e}",
-                      s.step + 1, s.t + c.dt, e.what(), it + 1, st.residual));
-    }
-    x += dx;
-    // A correction at round-off level leaves an error of its square: done. The increment is
-    // measured in configuration units for every formulation (positions; u moves material points
-    // by about |u| times the size of the system), relative to max(1, ‖qₙ‖∞).
-    const double dq = settings_.formulation == F::constrained
-                          ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
-                          : dx.lpNorm<Eigen::Infinity>() *
-                                (settings_.formulation == F::reparametrized ? qscale : 1.0);
-    if (dq <= settings_.increment_tolerance * qscale) {
-      st.iterations = it + 1;
-      st.residual =
-          evaluate(c, x, nullptr, bordered_ || tree_.has_value()).lpNorm<Eigen::Infinity>();
-      converged = std::isfinite(st.residual);
-      break;
-    }
-  }
-  if (!converged) {
-    throw NewtonFailure(fmt::format(
-        "step {} (t = {:.6g}): Newton did not converge in {} iterations; residual {:.3e} "
-        "(tolerance {:.1e} x scale {:.3e})",
-        s.step + 1, s.t + c.dt, st.iterations, st.residual, settings_.residual_tolerance, ref));
-  }
+  const bool fast = bordered_ || tree_.has_value();
+  const StepStats st = newton_loop(
+      x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt),
+      [&](const VecX& y, bool matrix) { return evaluate(c, y, matrix ? &J : nullptr, fast); },
+      [&](const VecX& R) { return correction(J, R); }, [&](const VecX&) { return ref; },
+      [&](const VecX& dx) {
+        // Configuration units for every formulation (positions; u moves material points by
+        // about |u| times the size of the system).
+        return settings_.formulation == F::constrained
+                   ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
+                   : dx.lpNorm<Eigen::Infinity>() *
+                         (settings_.formulation == F::reparametrized ? qscale : 1.0);
+      });
   const VecX q1 = configuration(c, x);
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;

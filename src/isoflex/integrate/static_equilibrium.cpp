@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::integrate {
@@ -62,41 +63,18 @@ StepStats StaticEquilibrium::step(State& s) const {
   x.head(n) = s.q;
   x.tail(m) = s.last_unknowns.size() == m ? s.last_unknowns : VecX::Zero(m);
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-  StepStats st;
-  bool converged = false;
   SpMat J;
-  for (int it = 0; it <= settings_.max_iterations; ++it) {
-    const VecX R = evaluate(t, x, &J);
-    st.residual = R.lpNorm<Eigen::Infinity>();
-    st.iterations = it;
-    if (!std::isfinite(st.residual)) break;
-    const double ref =
-        std::max(1.0, (sys_.jacobian(x.head(n)).transpose() * x.tail(m)).lpNorm<Eigen::Infinity>());
-    if (st.residual <= settings_.residual_tolerance * ref) {
-      converged = true;
-      break;
-    }
-    if (it == settings_.max_iterations) break;
-    VecX dx;
-    try {
-      dx = solve::solve(J, -R);
-    } catch (const std::exception& e) {
-      throw NewtonFailure(fmt::format("load step {} (t = {:.6g}): {} at Newton iteration {}",
-                                      s.step + 1, t, e.what(), it + 1));
-    }
-    x += dx;
-    if (dx.head(n).lpNorm<Eigen::Infinity>() <= settings_.increment_tolerance * qscale) {
-      st.iterations = it + 1;
-      st.residual = evaluate(t, x, nullptr).lpNorm<Eigen::Infinity>();
-      converged = std::isfinite(st.residual);
-      break;
-    }
-  }
-  if (!converged)
-    throw NewtonFailure(
-        fmt::format("load step {} (t = {:.6g}): static Newton did not converge in {} iterations; "
-                    "residual {:.3e}",
-                    s.step + 1, t, st.iterations, st.residual));
+  solve::FixedPatternLU lu;
+  // Residual scale: the forces that balance, ‖Gᵀλ‖∞.
+  const StepStats st = newton_loop(
+      x, settings_, qscale, fmt::format("load step {} (t = {:.6g})", s.step + 1, t),
+      [&](const VecX& y, bool matrix) { return evaluate(t, y, matrix ? &J : nullptr); },
+      [&](const VecX& R) { return lu.solve(J, -R); },
+      [&](const VecX& y) {
+        return std::max(
+            1.0, (sys_.jacobian(y.head(n)).transpose() * y.tail(m)).lpNorm<Eigen::Infinity>());
+      },
+      [&](const VecX& dx) { return dx.head(n).lpNorm<Eigen::Infinity>(); });
   s.q = x.head(n);
   s.last_unknowns = x.tail(m);
   s.t = t;

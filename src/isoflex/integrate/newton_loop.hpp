@@ -1,0 +1,55 @@
+#pragma once
+// The Newton iteration shared by the time step (EnergyMomentumIntegrator) and the load step
+// (StaticEquilibrium), with the convergence tests of docs/theory/schemes.md §6: ‖R‖∞ ≤
+// residual_tolerance · scale, or a correction at round-off level (‖Δ‖ ≤ increment_tolerance ·
+// qscale in configuration units; its error is its square). Throws NewtonFailure with `where`
+// ("step 12 (t = 0.12)") and how far the residual got.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <exception>
+#include <string>
+
+#include "isoflex/integrate/energy_momentum.hpp"
+
+namespace isoflex::integrate {
+
+// residual(x, with_matrix) → R (keeping the Newton matrix when asked); correction(R) → Δx;
+// scale(x) → the residual scale; increment(Δx) → the size of Δx in configuration units.
+template <class Residual, class Correction, class Scale, class Increment>
+StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
+                      const std::string& where, Residual&& residual, Correction&& correction,
+                      Scale&& scale, Increment&& increment) {
+  StepStats st;
+  double ref = 1.0;
+  for (int it = 0; it <= settings.max_iterations; ++it) {
+    const VecX R = residual(x, true);
+    st.residual = R.lpNorm<Eigen::Infinity>();
+    st.iterations = it;
+    if (!std::isfinite(st.residual)) break;
+    ref = scale(x);
+    if (st.residual <= settings.residual_tolerance * ref) return st;
+    if (it == settings.max_iterations) break;
+    VecX dx;
+    try {
+      dx = correction(R);
+    } catch (const std::exception& e) {
+      throw NewtonFailure(fmt::format("{}: {} at Newton iteration {}, residual {:.3e}", where,
+                                      e.what(), it + 1, st.residual));
+    }
+    x += dx;
+    if (increment(dx) <= settings.increment_tolerance * qscale) {
+      st.iterations = it + 1;
+      const VecX R_final = residual(x, false);
+      st.residual = R_final.lpNorm<Eigen::Infinity>();
+      if (std::isfinite(st.residual)) return st;
+      break;
+    }
+  }
+  throw NewtonFailure(fmt::format(
+      "{}: Newton did not converge in {} iterations; residual {:.3e} (tolerance {:.1e} x scale "
+      "{:.3e})",
+      where, st.iterations, st.residual, settings.residual_tolerance, ref));
+}
+
+}  // namespace isoflex::integrate
