@@ -70,7 +70,7 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   auto l = load(file, err);
   if (!l) return 2;
   const auto& sys = *l->sys;
-  const int m_int = 6 * sys.node_count();
+  const int m_int = sys.internal_rows();
   fmt::print(out, "model            {}\n", file);
   fmt::print(out, "bodies           {}\n", l->model.bodies.size());
   if (!sys.beams().empty()) {
@@ -102,7 +102,14 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
       fmt::print(out, "  {:<14} fix: {}\n", "", f.fix);
     }
   }
-  fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
+  const int n_director = sys.director_node_count();
+  if (n_director == 0)
+    fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
+  else
+    fmt::print(out,
+               "nodes            {} ({} frame nodes, 12 coordinates each; {} director nodes, 6 "
+               "coordinates each)\n",
+               sys.node_count(), sys.node_count() - n_director, n_director);
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
              sys.m_selected(), m_int, sys.m_selected() - m_int);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "isoflex/integrate/newton_loop.hpp"
+#include "isoflex/math/director_node.hpp"
 #include "isoflex/math/frame_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
@@ -22,23 +23,25 @@ struct EnergyMomentumIntegrator::StepContext {
 };
 
 namespace {
-// Entries of P_tree = P_int E (57) as a pattern: 12 rows per node times the ν-entries on its path
-// to its root (the τ of every tree joint above it and the root's twist).
+// Entries of P_tree = P_int E (57) as a pattern: the node's coordinates times the ν-entries on its
+// path to its root (the τ of every tree joint above it and the root's free velocities).
 long long structural_null_space_entries(const system::System& sys) {
-  std::vector<int> parent_joint(sys.node_count(), -1);
+  std::vector<int> parent_joint(sys.node_count(), -1), root_width(sys.node_count(), 0);
   for (std::size_t j = 0; j < sys.joints().size(); ++j)
     if (sys.joints()[j].tree) parent_joint[sys.joints()[j].child] = static_cast<int>(j);
+  for (std::size_t r = 0; r < sys.roots().size(); ++r)
+    root_width[sys.roots()[r]] = sys.root_widths()[r];
   long long entries = 0;
   for (int i = 0; i < sys.node_count(); ++i) {
     long long width = 0;
     int node = i;
     while (node >= 0 && parent_joint[node] >= 0) {
       const auto& joint = sys.joints()[parent_joint[node]];
-      width += joint.joint.freedom_count();
+      width += joint.joint->freedom_count();
       node = joint.parent;
     }
-    if (node >= 0) width += 6;  // a root node's twist
-    entries += 12 * width;
+    if (node >= 0) width += root_width[node];
+    entries += sys.coordinate_count(i) * width;
   }
   return entries;
 }
@@ -243,14 +246,14 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
         NJ->row = N6;
         NJ->col = 0;
       } else {
-        // [−K̃  (I−𝒜ₘ)ᵀ  0; (I−𝒜₁)  0  −ℬ₁D; 0  ℬₘᵀ  0] [w; y; Δu] = [0; 0; −R],
+        // [−K̃  (I−𝒜ₘ)ᵀ  0; (I−𝒜₁)  0  −ℬ̃; 0  ℬₘᵀ  0] [w; y; Δu] = [0; 0; −R],
         // K̃ = P_int(q_{n+½})ᵀ K̂ P_int(q_{n+1}).
         SpMat L1, B1, P1;
         sys_.tree_factors(q1, L1, B1, P1);
         append(t, SpMat(-(PmT * (K * P1))), 0, 0);
         append(t, LmT, 0, N6);
         append(t, L1, N6, 0);
-        append(t, SpMat(-(B1 * sys_.rotation_vector_tangent(x))), N6, 2 * N6);
+        append(t, SpMat(-sys_.update_input_map(s.q, x)), N6, 2 * N6);
         append(t, BmT, 2 * N6, N6);
         J->resize(2 * N6 + k, 2 * N6 + k);
         NJ->row = 2 * N6;
@@ -349,16 +352,24 @@ Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
   out.newton_iterations = st.iterations;
   out.residual = st.residual;
   for (int i = 0; i < sys_.node_count(); ++i) {
-    const frame_node::Q q = s.q.segment<12>(12 * i), v = s.v.segment<12>(12 * i);
+    const int o = sys_.q_offset(i);
     BodyPose b;
     b.name = i < static_cast<int>(body_names.size()) ? body_names[i] : std::string();
-    b.position = frame_node::phi(q);
-    b.directors = frame_node::directors(q);
-    b.velocity = frame_node::phi(v);
-    Vec3 w = Vec3::Zero();  // ω = ½ Σ d_I × ḋ_I
-    for (int I = 0; I < 3; ++I)
-      w += 0.5 * frame_node::director(q, I).cross(frame_node::director(v, I));
-    b.angular_velocity = w;
+    b.position = s.q.segment<3>(o);
+    b.velocity = s.v.segment<3>(o);
+    if (sys_.node_kind(i) == joints::NodeKind::frame) {
+      const frame_node::Q q = s.q.segment<12>(o), v = s.v.segment<12>(o);
+      b.directors = frame_node::directors(q);
+      Vec3 w = Vec3::Zero();  // ω = ½ Σ d_I × ḋ_I
+      for (int I = 0; I < 3; ++I)
+        w += 0.5 * frame_node::director(q, I).cross(frame_node::director(v, I));
+      b.angular_velocity = w;
+    } else {
+      // A shell node: its director as d₃ of a frame, ω = d × ḋ (no drilling part).
+      const Vec3 d = s.q.segment<3>(o + 3);
+      b.directors << director_node::tangent_basis(d), d;
+      b.angular_velocity = d.cross(Vec3(s.v.segment<3>(o + 3)));
+    }
     out.bodies.push_back(b);
   }
   for (int b = 0; b < static_cast<int>(sys_.beams().size()); ++b) {

@@ -18,7 +18,8 @@ constexpr int kOutside = -2;  // slot of an entry of 𝖦 outside its fixed patt
 }
 
 bool ReducedNewtonMatrix::applicable(const system::System& sys) {
-  if (!sys.cut_rows().empty()) return false;
+  // 12 × 12 node blocks: written for frame nodes.
+  if (!sys.frame_nodes_only() || !sys.cut_rows().empty()) return false;
   std::vector<int> owners(sys.node_count(), 0);
   for (int r : sys.roots()) ++owners[r];
   for (int j : sys.tree_order()) ++owners[sys.joints()[j].child];
@@ -44,9 +45,9 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
     const auto& J = joints[j];
     parent_joint_[J.child] = j;
     if (J.parent >= 0) path_[J.child] = path_[J.parent];
-    if (J.joint.freedom_count() > 0) {
+    if (J.frame->freedom_count() > 0) {
       path_[J.child].push_back(static_cast<int>(groups_.size()));
-      groups_.push_back({J.nu_offset, J.joint.freedom_count(), J.joint.rotation_vector_offset()});
+      groups_.push_back({J.nu_offset, J.frame->freedom_count(), J.frame->rotation_vector_offset()});
     }
   }
 
@@ -144,7 +145,7 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
     for (int i = 0; i < N; ++i) Gn[i] = fn::jacobian(qg.segment<12>(12 * i));
     std::vector<MatX> Gj;
     for (const auto& J : joints)
-      Gj.push_back(J.joint.jacobian(sys.node_q(qg, J.parent), sys.node_q(qg, J.child)));
+      Gj.push_back(J.frame->jacobian(sys.node_q(qg, J.parent), sys.node_q(qg, J.child)));
     std::vector<int> sel(sys.m_all(), -1);
     for (std::size_t r = 0; r < selected_all_.size(); ++r) sel[selected_all_[r]] = r;
     system::Triplets tg;
@@ -157,7 +158,7 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
       const auto& J = joints[j];
       for (int c = 0; c < 24; ++c) {
         const int node = c < 12 ? J.parent : J.child;
-        for (int r = 0; r < J.joint.constraint_count(); ++r)
+        for (int r = 0; r < J.frame->constraint_count(); ++r)
           if (node >= 0 && sel[J.row_offset + r] >= 0 && Gj[j](r, c) != 0.0)
             tg.emplace_back(sel[J.row_offset + r], 12 * node + c % 12, 1.0);
       }
@@ -180,7 +181,7 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
     for (const auto& J : joints) {
       joint_first_slot_.push_back(static_cast<int>(joint_slots_.size()));
       for (int c = 0; c < 24; ++c)
-        for (int r = 0; r < J.joint.constraint_count(); ++r)
+        for (int r = 0; r < J.frame->constraint_count(); ++r)
           joint_slots_.push_back(slot(J.row_offset + r, c < 12 ? J.parent : J.child, c % 12));
     }
     G_ = G_pattern_;
@@ -241,10 +242,10 @@ void ReducedNewtonMatrix::twist_blocks(const VecX& q, std::vector<std::vector<Tw
     auto& out = E[J.child];
     out.clear();
     if (J.parent >= 0) {
-      const Mat<6, 6> A = J.joint.parent_block(qa, qb);
+      const Mat<6, 6> A = J.frame->parent_block(qa, qb);
       for (const Twist& B : E[J.parent]) out.push_back(A * B);
     }
-    if (J.joint.freedom_count() > 0) out.push_back(J.joint.freedom_block(qa, qb));
+    if (J.frame->freedom_count() > 0) out.push_back(J.frame->freedom_block(qa, qb));
   }
 }
 
@@ -310,8 +311,8 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   }
   for (std::size_t j = 0; j < sys_.joints().size(); ++j) {
     const auto& J = sys_.joints()[j];
-    const MatX Gj = J.joint.jacobian(sys_.node_q(qm, J.parent), sys_.node_q(qm, J.child));
-    const int m = J.joint.constraint_count();
+    const MatX Gj = J.frame->jacobian(sys_.node_q(qm, J.parent), sys_.node_q(qm, J.child));
+    const int m = J.frame->constraint_count();
     const int* sl = &joint_slots_[joint_first_slot_[j]];
     for (int c = 0; c < 24; ++c)
       for (int r = 0; r < m; ++r) put(sl[m * c + r], Gj(r, c));
@@ -334,10 +335,10 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     K_[pair(i, i)] += (0.5 * dt) * H;
   }
   for (const auto& J : sys_.joints()) {
-    const int m = J.joint.constraint_count();
+    const int m = J.frame->constraint_count();
     if (l.segment(J.row_offset, m).isZero(0.0)) continue;
     Mat<24, 24> H = Mat<24, 24>::Zero();
-    J.joint.add_constraint_hessian(l.segment(J.row_offset, m), H);
+    J.frame->add_constraint_hessian(l.segment(J.row_offset, m), H);
     const int nodes[2] = {J.parent, J.child};
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)

@@ -106,7 +106,7 @@ FrameJoint::FrameVectors FrameJoint::vectors(const Q& qa, const Q& qb) const {
   return v;
 }
 
-VecX FrameJoint::constraints(const Q& qa, const Q& qb) const {
+VecX FrameJoint::constraints(CRef qa, CRef qb) const {
   const FrameVectors v = vectors(qa, qb);
   VecX c(m_);
   int row = 0;
@@ -116,7 +116,7 @@ VecX FrameJoint::constraints(const Q& qa, const Q& qb) const {
   return c;
 }
 
-MatX FrameJoint::jacobian(const Q& qa, const Q& qb) const {
+MatX FrameJoint::jacobian(CRef qa, CRef qb) const {
   const Vec<24> q = stack(qa, qb);
   const L lr = relative_point_map(g_.X_A, g_.X_B);
   MatX G(m_, 24);
@@ -134,7 +134,7 @@ MatX FrameJoint::jacobian(const Q& qa, const Q& qb) const {
   return G;
 }
 
-void FrameJoint::add_constraint_hessian(const VecX& lambda, Mat<24, 24>& H) const {
+void FrameJoint::add_constraint_hessian(CRef lambda, Mat<24, 24>& H) const {
   assert(lambda.size() == m_);
   const L lr = relative_point_map(g_.X_A, g_.X_B);
   int row = point_rows_ ? 3 : 0;
@@ -182,7 +182,7 @@ bool absolute_rotation(Kind kind) {
 }
 }  // namespace
 
-Mat<6, 6> FrameJoint::parent_block(const Q& qa, const Q& qb) const {
+Mat<6, 6> FrameJoint::parent_block(CRef qa, CRef qb) const {
   const FrameVectors v = vectors(qa, qb);
   const double follow = absolute_rotation(kind_) ? 0.0 : 1.0;  // ω_B contains ω_A
   const Vec3 arm = v.rho_a + (slides_ ? v.r : Vec3::Zero());
@@ -193,7 +193,7 @@ Mat<6, 6> FrameJoint::parent_block(const Q& qa, const Q& qb) const {
   return A;
 }
 
-MatX FrameJoint::freedom_block(const Q& qa, const Q& qb) const {
+MatX FrameJoint::freedom_block(CRef qa, CRef qb) const {
   const FrameVectors v = vectors(qa, qb);
   MatX B = MatX::Zero(6, r_);
   int col = 0;
@@ -246,6 +246,27 @@ FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Q& qb_n,
   for (const Vec3& t : translation_directions(a_n1)) x_b += tau(k++) * t;
   assert(k == r_);
   return fn::make(x_b - Rb * g_.X_B, Rb);
+}
+
+void FrameJoint::add_constraint_hessian(CRef lambda, MatX& H) const {
+  Mat<24, 24> h = Mat<24, 24>::Zero();
+  add_constraint_hessian(lambda, h);
+  H += h;
+}
+
+VecX FrameJoint::update(CRef qa_n, CRef qa_n1, const Mat3&, CRef qb_n, CRef tau,
+                        Mat3* step_b) const {
+  const Q qb_n1 = update(Q(qa_n), Q(qa_n1), Q(qb_n), VecX(tau));
+  if (step_b) *step_b = fn::directors(qb_n1) * fn::directors(Q(qb_n)).transpose();
+  return qb_n1;
+}
+
+MatX FrameJoint::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef tau) const {
+  MatX B = freedom_block(qa_n1, qb_n1);
+  if (rotvec_ >= 0)
+    B.middleCols<3>(rotvec_) =
+        B.middleCols<3>(rotvec_) * rodrigues_tangent(Vec3(tau.segment<3>(rotvec_)));
+  return B;
 }
 
 FrameJointGeometry geometry_from_global(const fn::Q& qa0, const fn::Q& qb0, const Vec3& p,

@@ -13,6 +13,7 @@
 //   an update map q_B,n+1 = F(q_A,n+1, q_A,n, q_B,n, τ-increments) that keeps every row at zero.
 #include <vector>
 
+#include "isoflex/joints/joint.hpp"
 #include "isoflex/math/frame_node.hpp"
 #include "isoflex/math/types.hpp"
 
@@ -36,31 +37,38 @@ struct FrameJointGeometry {
   Mat3 C_B = Mat3::Identity();
 };
 
-class FrameJoint {
+class FrameJoint final : public Joint {
  public:
   using Q = frame_node::Q;
   FrameJoint(Kind kind, const FrameJointGeometry& g);
 
   Kind kind() const { return kind_; }
-  int constraint_count() const { return m_; }
-  int freedom_count() const { return r_; }  // joint velocities τ
+  NodeKind parent_kind() const override { return NodeKind::frame; }
+  NodeKind child_kind() const override { return NodeKind::frame; }
+  int constraint_count() const override { return m_; }
+  int freedom_count() const override { return r_; }  // joint velocities τ
   // Entries of τ that are a rotation vector θ ∈ R³ (updated by Rodrigues): their position or −1.
   int rotation_vector_offset() const { return rotvec_; }
 
-  VecX constraints(const Q& qa, const Q& qb) const;
+  VecX constraints(CRef qa, CRef qb) const override;
   // [∂Φ/∂q_A, ∂Φ/∂q_B], m × 24.
-  MatX jacobian(const Q& qa, const Q& qb) const;
+  MatX jacobian(CRef qa, CRef qb) const override;
   // H += Σ λᵢ ∂²Φᵢ/∂(q_A,q_B)², 24 × 24 (constant).
-  void add_constraint_hessian(const VecX& lambda, Mat<24, 24>& H) const;
+  void add_constraint_hessian(CRef lambda, Mat<24, 24>& H) const;
+  void add_constraint_hessian(CRef lambda, MatX& H) const override;
 
   // Velocity analysis: t_B = A t_A + B τ (t = (φ̇, ω)).
-  Mat<6, 6> parent_block(const Q& qa, const Q& qb) const;
-  MatX freedom_block(const Q& qa, const Q& qb) const;  // 6 × r
+  Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
+  MatX freedom_block(CRef qa, CRef qb) const override;  // 6 × r
 
   // Update map: child configuration at t_{n+1} from the parent at t_n and t_{n+1}, the child at
   // t_n and the joint increments. ∂q_B/∂(t_A, τ) equals P_int(q_B) [A B] at t_{n+1} with θ-columns
-  // multiplied by T(θ) (rotation_vector_offset).
+  // multiplied by T(θ) (rotation_vector_offset). The parent's step rotation is taken from its
+  // directors, so `step_a` is not needed.
   Q update(const Q& qa_n, const Q& qa_n1, const Q& qb_n, const VecX& tau) const;
+  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+              Mat3* step_b) const override;
+  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   struct FrameVectors {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "isoflex/math/rotation.hpp"
+#include "isoflex/math/skew.hpp"
 
 namespace isoflex::director_node {
 
@@ -77,6 +78,46 @@ Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u
   // Rotation by |v| about dₙ × v/|v| carries dₙ to exp_{dₙ}(v) and transports the basis.
   const Mat3 R = rodrigues(dn.cross(v));
   return R * basis_n;
+}
+
+Mat<6, 6> twist_null_space(const Q& q) {
+  Mat<6, 6> P = Mat<6, 6>::Zero();
+  P.topLeftCorner<3, 3>().setIdentity();
+  P.bottomRightCorner<3, 3>() = -skew(Vec3(q.tail<3>()));
+  return P;
+}
+
+namespace {
+// [d₂ −d₁]: the ω of the unit θ̇₁, θ̇₂ (45).
+Mat<3, 2> rotation_axes(const Vec3& d) {
+  const Mat<3, 2> b = tangent_basis(d);
+  Mat<3, 2> w;
+  w << b.col(1), -b.col(0);
+  return w;
+}
+}  // namespace
+
+Mat<6, 5> root_block(const Q& q) {
+  Mat<6, 5> B = Mat<6, 5>::Zero();
+  B.topLeftCorner<3, 3>().setIdentity();
+  B.bottomRightCorner<3, 2>() = rotation_axes(q.tail<3>());
+  return B;
+}
+
+Q root_update(const Q& qn, const Vec<5>& u, Mat3* step) {
+  const Mat3 R = rodrigues(rotation_axes(qn.tail<3>()) * u.tail<2>());
+  if (step) *step = R;
+  Q q;
+  q << qn.head<3>() + u.head<3>(), R * qn.tail<3>();
+  return q;
+}
+
+Mat<6, 5> root_update_block(const Q& qn, const Vec<5>& u) {
+  const Mat<3, 2> w = rotation_axes(qn.tail<3>());
+  Mat<6, 5> B = Mat<6, 5>::Zero();
+  B.topLeftCorner<3, 3>().setIdentity();
+  B.bottomRightCorner<3, 2>() = rodrigues_tangent(w * u.tail<2>()) * w;
+  return B;
 }
 
 }  // namespace isoflex::director_node

@@ -24,4 +24,18 @@ Q update(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
 Mat<6, 5> update_derivative(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
 // Parallel transport of the tangent basis along the geodesic from dₙ to d_{n+1} = exp_{dₙ}(Dθ).
 Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
+
+// --- The node in the system's twist form (joints/joint.hpp) -----------------------------------
+// q̇ = P(q) t with t = (φ̇, ω), ḋ = ω × d: P = [I 0; 0 −d̂] (DNSM-III (68)), rank 5 (ω ∥ d is
+// the drilling part). G(q) P(q) = 0 for every q ∈ R⁶, so P(q_{n+½}) is a discrete null space; its
+// director columns are those of (49)–(50) times dₙ·d_{n+½} (docs/theory/shell.md).
+Mat<6, 6> twist_null_space(const Q& q);
+// A free node's twist from its five velocities s = (φ̇, θ̇₁, θ̇₂) (47): ω = θ̇₁ d₂ − θ̇₂ d₁ (45)
+// with (d₁, d₂) = tangent_basis(d).
+Mat<6, 5> root_block(const Q& q);
+// The reparametrization (53)–(54) of a free node with the basis tangent_basis(dₙ): the director
+// turns by θ = u₄ d₂ − u₅ d₁ (⊥ dₙ, so exp(θ̂) dₙ = exp_{dₙ}(D θ)); `step` receives exp(θ̂).
+Q root_update(const Q& qn, const Vec<5>& u, Mat3* step);
+// ∂t/∂u of root_update at t_{n+1}: [I 0; 0 T(θ) [d₂ −d₁]] (bases at tₙ).
+Mat<6, 5> root_update_block(const Q& qn, const Vec<5>& u);
 }  // namespace isoflex::director_node

@@ -9,6 +9,7 @@
 #include "isoflex/elements/beam_element.hpp"
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
+#include "isoflex/math/director_node.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
 #include "isoflex/solve/linear_solver.hpp"
@@ -16,6 +17,8 @@
 namespace isoflex::system {
 
 namespace fn = frame_node;
+namespace dn = director_node;
+using joints::NodeKind;
 
 namespace {
 
@@ -77,14 +80,38 @@ Vec3 body_coordinates(const fn::Q& q0, const std::optional<Vec3>& global,
 
 }  // namespace
 
-const fn::Q System::node_q(const VecX& q, int node) const {
-  return node < 0 ? ground_ : fn::Q(q.segment<12>(12 * node));
+joints::Joint::CRef System::node_q(const VecX& q, int node) const {
+  if (node < 0) return ground_;
+  return q.segment(nodes_[node].q_offset, coordinate_count(node));
+}
+
+void System::add_node(NodeKind kind, const VecX& q0, const std::string& name, int beam) {
+  nodes_.push_back({kind, static_cast<int>(q0_.size()), internal_rows_});
+  internal_rows_ += kind == NodeKind::frame ? fn::kConstraints : dn::kConstraints;
+  if (kind == NodeKind::director) ++director_nodes_;
+  q0_.conservativeResize(q0_.size() + q0.size());
+  q0_.tail(q0.size()) = q0;
+  node_names_.push_back(name);
+  node_beam_.push_back(beam);
+}
+
+VecX System::stacked(const VecX& q, const std::vector<int>& nodes) const {
+  int size = 0;
+  for (int a : nodes) size += coordinate_count(a);
+  VecX out(size);
+  int o = 0;
+  for (int a : nodes) {
+    const int c = coordinate_count(a);
+    out.segment(o, c) = q.segment(nodes_[a].q_offset, c);
+    o += c;
+  }
+  return out;
 }
 
 int System::joint_of_row(int row) const {
   for (int j = 0; j < static_cast<int>(joints_.size()); ++j) {
     const auto& J = joints_[j];
-    if (row >= J.row_offset && row < J.row_offset + J.joint.constraint_count()) return j;
+    if (row >= J.row_offset && row < J.row_offset + J.joint->constraint_count()) return j;
   }
   return -1;
 }
@@ -94,16 +121,11 @@ System System::compile(const model::Model& model) {
   s.ground_ = fn::make(Vec3::Zero(), Mat3::Identity());
   // Nodes: the bodies in model order, then the nodes of each beam along its polyline.
   const int n_bodies = static_cast<int>(model.bodies.size());
-  int N = n_bodies;
-  for (const auto& b : model.beams) N += b.node_count();
   std::map<std::string, int> index;
-  s.q0_.resize(12 * N);
   for (int i = 0; i < n_bodies; ++i) {
     const auto& b = model.bodies[i];
     index[b.name] = i;
-    s.node_names_.push_back(b.name);
-    s.node_beam_.push_back(-1);
-    s.q0_.segment<12>(12 * i) = fn::make(b.position, b.orientation);
+    s.add_node(NodeKind::frame, fn::make(b.position, b.orientation), b.name, -1);
     s.elements_.push_back(
         std::make_unique<elements::RigidBody>(i, b.mass, b.inertia, model.gravity));
   }
@@ -125,10 +147,9 @@ System System::compile(const model::Model& model) {
       fail(B.source, what, e.what());
     }
     for (std::size_t k = 0; k < q.size(); ++k) {
-      index[fmt::format("{}[{}]", B.name, k)] = next + static_cast<int>(k);
-      s.node_names_.push_back(fmt::format("{}[{}]", B.name, k));
-      s.node_beam_.push_back(static_cast<int>(bi));
-      s.q0_.segment<12>(12 * (next + static_cast<int>(k))) = q[k];
+      const std::string name = fmt::format("{}[{}]", B.name, k);
+      index[name] = next + static_cast<int>(k);
+      s.add_node(NodeKind::frame, q[k], name, static_cast<int>(bi));
       inst.nodes.push_back(next + static_cast<int>(k));
     }
     const model::BeamSection& c = B.section;
@@ -154,17 +175,12 @@ System System::compile(const model::Model& model) {
     return it->second;
   };
 
+  const int N = s.node_count();
   // Mass matrix.
   {
     Triplets t;
-    for (const auto& e : s.elements_) {
-      const MatX Me = e->mass();
-      const auto& nodes = e->nodes();
-      for (std::size_t a = 0; a < nodes.size(); ++a)
-        for (std::size_t b = 0; b < nodes.size(); ++b)
-          add_block(t, 12 * nodes[a], 12 * nodes[b], Me.block<12, 12>(12 * a, 12 * b));
-    }
-    s.M_.resize(12 * N, 12 * N);
+    for (const auto& e : s.elements_) s.scatter(t, e->nodes(), e->mass());
+    s.M_.resize(s.n(), s.n());
     s.M_.setFromTriplets(t.begin(), t.end());
   }
 
@@ -174,6 +190,9 @@ System System::compile(const model::Model& model) {
     const std::string what = fmt::format("loads[{}]", l);
     const int node = find_body(L.body, L.source, what + ".body");
     if (node < 0) fail(L.source, what + ".body", "a load cannot act on the ground");
+    if (s.node_kind(node) != NodeKind::frame)
+      fail(L.source, what + ".body",
+           fmt::format("'{}' is a shell node: load shells with shell_loads", L.body));
     const fn::Q q = s.node_q(s.q0_, node);
     const Vec3 X = body_coordinates(q, L.point, L.point_local);
     auto compile3 = [&](const std::optional<std::array<std::string, 3>>& e, const char* key) {
@@ -221,6 +240,11 @@ System System::compile(const model::Model& model) {
     const auto& P = model.probes[p];
     const int node = find_body(P.body, P.source, fmt::format("probes[{}].body", p));
     if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
+    if (s.node_kind(node) == NodeKind::director) {
+      // A shell node's probe follows the node's mid-surface point.
+      s.probes_.push_back({P.name, node, Vec3::Zero()});
+      continue;
+    }
     const fn::Q q = s.node_q(s.q0_, node);
     const Vec3 X = body_coordinates(q, P.point, P.point_local);
     s.probes_.push_back({P.name, node, X});
@@ -279,13 +303,24 @@ System System::compile(const model::Model& model) {
   }
 
   // Joint instances, rows and ν layout.
-  int row = 6 * N;
+  int row = s.internal_rows_;
   for (std::size_t j = 0; j < model.joints.size(); ++j) {
     const auto& J = model.joints[j];
     const std::string what = fmt::format("joints[{}]", j);
     const bool rev = tree_parent_side[j] == -1;
     const int parent = rev ? edges[j].b : edges[j].a;
     const int child = rev ? edges[j].a : edges[j].b;
+    const std::string name = J.name.empty() ? what : J.name;
+    const bool tree = tree_parent_side[j] != 0;
+    if ((parent >= 0 && s.node_kind(parent) == NodeKind::director) ||
+        s.node_kind(child) == NodeKind::director) {
+      auto joint = s.director_joint(J, parent, child, what);
+      const int m = joint->constraint_count();
+      s.joints_.push_back({name, model::to_string(J.type), std::move(joint), nullptr, parent, child,
+                           tree, rev, row, -1});
+      row += m;
+      continue;
+    }
     const fn::Q qa0 = s.node_q(s.q0_, parent), qb0 = s.node_q(s.q0_, child);
     // Body a and b of the model entry (not parent/child) at t = 0; the ground frame for ground.
     const fn::Q qA = s.node_q(s.q0_, edges[j].a), qB = s.node_q(s.q0_, edges[j].b);
@@ -325,28 +360,23 @@ System System::compile(const model::Model& model) {
       default:
         break;
     }
-    JointInstance inst{
-        J.name.empty() ? what : J.name,
-        J.type,
-        joints::FrameJoint(kind_of(J.type), joints::geometry_from_global(qa0, qb0, p, E)),
-        parent,
-        child,
-        tree_parent_side[j] != 0,
-        rev,
-        row,
-        -1};
-    row += inst.joint.constraint_count();
-    s.joints_.push_back(std::move(inst));
+    auto joint = std::make_shared<const joints::FrameJoint>(
+        kind_of(J.type), joints::geometry_from_global(qa0, qb0, p, E));
+    const joints::FrameJoint* frame = joint.get();
+    s.joints_.push_back({name, model::to_string(J.type), std::move(joint), frame, parent, child,
+                         tree, rev, row, -1});
+    row += frame->constraint_count();
   }
   s.m_all_ = row;
   int nu = 0;
-  for (std::size_t r = 0; r < s.roots_.size(); ++r) {
+  for (int root : s.roots_) {
     s.root_nu_offset_.push_back(nu);
-    nu += 6;
+    s.root_width_.push_back(s.node_kind(root) == NodeKind::frame ? 6 : 5);
+    nu += s.root_width_.back();
   }
   for (int j : order) {
     s.joints_[j].nu_offset = nu;
-    nu += s.joints_[j].joint.freedom_count();
+    nu += s.joints_[j].joint->freedom_count();
   }
   s.tree_order_ = order;
   s.k_ = nu;
@@ -357,7 +387,7 @@ System System::compile(const model::Model& model) {
     const VecX c = s.constraints(s.q0_);
     for (std::size_t j = 0; j < s.joints_.size(); ++j) {
       const auto& J = s.joints_[j];
-      const double v = c.segment(J.row_offset, J.joint.constraint_count()).cwiseAbs().maxCoeff();
+      const double v = c.segment(J.row_offset, J.joint->constraint_count()).cwiseAbs().maxCoeff();
       if (v > 1e-9)
         fail(model.joints[j].source, fmt::format("joints[{}]", j),
              fmt::format("not assembled at t = 0 (|Φ| = {:.3g})", v));
@@ -369,11 +399,11 @@ System System::compile(const model::Model& model) {
   std::vector<int> cut_all;
   for (const auto& J : s.joints_)
     if (!J.tree)
-      for (int i = 0; i < J.joint.constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
-  for (int i = 0; i < 6 * N; ++i) s.selected_rows_.push_back(i);
+      for (int i = 0; i < J.joint->constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
+  for (int i = 0; i < s.internal_rows_; ++i) s.selected_rows_.push_back(i);
   for (const auto& J : s.joints_)
     if (J.tree)
-      for (int i = 0; i < J.joint.constraint_count(); ++i)
+      for (int i = 0; i < J.joint->constraint_count(); ++i)
         s.selected_rows_.push_back(J.row_offset + i);
   if (!cut_all.empty()) {
     const MatX Gc = MatX(s.jacobian_rows(s.q0_, cut_all) * s.tree_null_space(s.q0_));
@@ -393,7 +423,7 @@ System System::compile(const model::Model& model) {
 
   // Initial velocities: the admissible twist closest (least squares in twist components) to the
   // given body velocities, within the null space of the loop-closing rows.
-  VecX t_given = VecX::Zero(6 * N);  // beam nodes start at rest
+  VecX t_given = VecX::Zero(6 * N);  // beam and shell nodes start at rest
   for (int i = 0; i < n_bodies; ++i) {
     t_given.segment<3>(6 * i) = model.bodies[i].velocity;
     t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
@@ -441,15 +471,28 @@ System System::compile(const model::Model& model) {
   return s;
 }
 
+void System::scatter(Triplets& t, const std::vector<int>& nodes, const MatX& Ke) const {
+  int oa = 0;
+  for (int a : nodes) {
+    const int ca = coordinate_count(a);
+    int ob = 0;
+    for (int b : nodes) {
+      const int cb = coordinate_count(b);
+      add_block(t, nodes_[a].q_offset, nodes_[b].q_offset, Ke.block(oa, ob, ca, cb));
+      ob += cb;
+    }
+    oa += ca;
+  }
+}
+
+std::shared_ptr<const joints::Joint> System::director_joint(const model::Joint& J, int, int,
+                                                            const std::string& what) const {
+  fail(J.source, what, "joints with shell nodes are not available yet");
+}
+
 double System::potential(const VecX& q) const {
   double V = 0.0;
-  for (const auto& e : elements_) {
-    const auto& nodes = e->nodes();
-    VecX qe(12 * nodes.size());
-    for (std::size_t a = 0; a < nodes.size(); ++a)
-      qe.segment<12>(12 * a) = q.segment<12>(12 * nodes[a]);
-    V += e->potential(qe);
-  }
+  for (const auto& e : elements_) V += e->potential(stacked(q, e->nodes()));
   return V;
 }
 
@@ -459,22 +502,18 @@ VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat
   MatX Ke;
   for (const auto& e : elements_) {
     const auto& nodes = e->nodes();
-    const int ne = static_cast<int>(nodes.size());
-    VecX a(12 * ne), b(12 * ne);
-    for (int i = 0; i < ne; ++i) {
-      a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
-      b.segment<12>(12 * i) = qn1.segment<12>(12 * nodes[i]);
+    const VecX dv =
+        e->discrete_gradient(stacked(qn, nodes), stacked(qn1, nodes), K ? &Ke : nullptr);
+    int o = 0;
+    for (int a : nodes) {
+      const int c = coordinate_count(a);
+      f.segment(nodes_[a].q_offset, c) += dv.segment(o, c);
+      o += c;
     }
-    const VecX dv = e->discrete_gradient(a, b, K ? &Ke : nullptr);
-    for (int i = 0; i < ne; ++i) {
-      f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
-      if (K)
-        for (int j = 0; j < ne; ++j)
-          add_block(t, 12 * nodes[i], 12 * nodes[j], Ke.block<12, 12>(12 * i, 12 * j));
-    }
+    if (K) scatter(t, nodes, Ke);
   }
   for (const auto& L : loads_) {
-    const int o = 12 * L.node();
+    const int o = nodes_[L.node()].q_offset;
     const fn::Q qm = 0.5 * (qn.segment<12>(o) + qn1.segment<12>(o));
     f.segment<12>(o) -= L.generalized_force(qm, t_mid);
     if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
@@ -488,24 +527,36 @@ VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat
 
 VecX System::constraints(const VecX& q) const {
   VecX c(m_all_);
-  for (int i = 0; i < node_count(); ++i)
-    c.segment<6>(6 * i) = fn::constraints(q.segment<12>(12 * i));
+  for (int i = 0; i < node_count(); ++i) {
+    const Node& nd = nodes_[i];
+    if (nd.kind == NodeKind::frame)
+      c.segment<6>(nd.row_offset) = fn::constraints(q.segment<12>(nd.q_offset));
+    else
+      c(nd.row_offset) = dn::constraint(q.segment<6>(nd.q_offset));
+  }
   for (const auto& J : joints_)
-    c.segment(J.row_offset, J.joint.constraint_count()) =
-        J.joint.constraints(node_q(q, J.parent), node_q(q, J.child));
+    c.segment(J.row_offset, J.joint->constraint_count()) =
+        J.joint->constraints(node_q(q, J.parent), node_q(q, J.child));
   return c;
 }
 
 SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
   // Assemble all rows, then pick.
   Triplets t;
-  for (int i = 0; i < node_count(); ++i)
-    add_block(t, 6 * i, 12 * i, fn::jacobian(q.segment<12>(12 * i)));
+  for (int i = 0; i < node_count(); ++i) {
+    const Node& nd = nodes_[i];
+    if (nd.kind == NodeKind::frame)
+      add_block(t, nd.row_offset, nd.q_offset, fn::jacobian(q.segment<12>(nd.q_offset)));
+    else
+      add_block(t, nd.row_offset, nd.q_offset, dn::jacobian(q.segment<6>(nd.q_offset)));
+  }
   for (const auto& J : joints_) {
-    const MatX G = J.joint.jacobian(node_q(q, J.parent), node_q(q, J.child));
-    const int m = J.joint.constraint_count();
-    if (J.parent >= 0) add_block(t, J.row_offset, 12 * J.parent, G.leftCols<12>());
-    add_block(t, J.row_offset, 12 * J.child, G.block(0, 12, m, 12));
+    const MatX G = J.joint->jacobian(node_q(q, J.parent), node_q(q, J.child));
+    const int m = J.joint->constraint_count();
+    const int na = joints::coordinate_count(J.joint->parent_kind());
+    if (J.parent >= 0) add_block(t, J.row_offset, nodes_[J.parent].q_offset, G.leftCols(na));
+    add_block(t, J.row_offset, nodes_[J.child].q_offset,
+              G.block(0, na, m, coordinate_count(J.child)));
   }
   SpMat all(m_all_, n());
   all.setFromTriplets(t.begin(), t.end());
@@ -525,39 +576,86 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
   for (std::size_t i = 0; i < selected_rows_.size(); ++i) l(selected_rows_[i]) = lambda_sel(i);
   Triplets t;
   for (int i = 0; i < node_count(); ++i) {
-    Mat<12, 12> H = Mat<12, 12>::Zero();
-    fn::add_constraint_hessian(l.segment<6>(6 * i), H);
-    add_block(t, 12 * i, 12 * i, H);
+    const Node& nd = nodes_[i];
+    if (nd.kind == NodeKind::frame) {
+      Mat<12, 12> H = Mat<12, 12>::Zero();
+      fn::add_constraint_hessian(l.segment<6>(nd.row_offset), H);
+      add_block(t, nd.q_offset, nd.q_offset, H);
+    } else {
+      // (41): ∂²/∂d² ½(d·d − 1) = I.
+      add_block(t, nd.q_offset + 3, nd.q_offset + 3, l(nd.row_offset) * Mat3::Identity());
+    }
   }
   for (const auto& J : joints_) {
-    Mat<24, 24> H = Mat<24, 24>::Zero();
-    J.joint.add_constraint_hessian(l.segment(J.row_offset, J.joint.constraint_count()), H);
+    const int na = joints::coordinate_count(J.joint->parent_kind());
+    const int nb = coordinate_count(J.child);
+    MatX H = MatX::Zero(na + nb, na + nb);
+    J.joint->add_constraint_hessian(l.segment(J.row_offset, J.joint->constraint_count()), H);
     const int nodes[2] = {J.parent, J.child};
+    const int off[2] = {0, na}, size[2] = {na, nb};
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
         if (nodes[a] >= 0 && nodes[b] >= 0)
-          add_block(t, 12 * nodes[a], 12 * nodes[b], H.block<12, 12>(12 * a, 12 * b));
+          add_block(t, nodes_[nodes[a]].q_offset, nodes_[nodes[b]].q_offset,
+                    H.block(off[a], off[b], size[a], size[b]));
   }
   SpMat H(n(), n());
   H.setFromTriplets(t.begin(), t.end());
   return H;
 }
 
-SpMat System::twist_map(const VecX& q) const {
+System::InputBlocks System::input_blocks(const VecX& q) const {
+  InputBlocks in;
+  for (int r : roots_)
+    in.root.push_back(node_kind(r) == NodeKind::frame
+                          ? MatX(MatX::Identity(6, 6))
+                          : MatX(dn::root_block(q.segment<6>(nodes_[r].q_offset))));
+  in.joint.resize(joints_.size());
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    in.joint[j] = J.joint->freedom_block(node_q(q, J.parent), node_q(q, J.child));
+  }
+  return in;
+}
+
+System::InputBlocks System::update_input_blocks(const VecX& qn, const VecX& q1,
+                                                const VecX& u) const {
+  InputBlocks in;
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int o = root_nu_offset_[r];
+    const int qo = nodes_[roots_[r]].q_offset;
+    if (node_kind(roots_[r]) == NodeKind::frame) {
+      MatX B = MatX::Identity(6, 6);
+      B.bottomRightCorner<3, 3>() = rodrigues_tangent(u.segment<3>(o + 3));  // (37)
+      in.root.push_back(B);
+    } else {
+      in.root.push_back(dn::root_update_block(qn.segment<6>(qo), u.segment<5>(o)));
+    }
+  }
+  in.joint.resize(joints_.size());
+  for (int j : tree_order_) {
+    const auto& J = joints_[j];
+    in.joint[j] = J.joint->update_freedom_block(node_q(q1, J.parent), node_q(qn, J.child),
+                                                node_q(q1, J.child),
+                                                u.segment(J.nu_offset, J.joint->freedom_count()));
+  }
+  return in;
+}
+
+SpMat System::twist_map(const VecX& q, const InputBlocks& in) const {
   // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
   using Blocks = std::vector<std::pair<int, MatX>>;
   std::vector<Blocks> rows(node_count());
   for (std::size_t r = 0; r < roots_.size(); ++r)
-    rows[roots_[r]].push_back({root_nu_offset_[r], MatX::Identity(6, 6)});
+    rows[roots_[r]].push_back({root_nu_offset_[r], in.root[r]});
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
     Blocks& out = rows[J.child];
     if (J.parent >= 0) {
-      const Mat<6, 6> A = J.joint.parent_block(qa, qb);
+      const Mat<6, 6> A = J.joint->parent_block(node_q(q, J.parent), node_q(q, J.child));
       for (const auto& [c, B] : rows[J.parent]) out.push_back({c, A * B});
     }
-    if (J.joint.freedom_count() > 0) out.push_back({J.nu_offset, J.joint.freedom_block(qa, qb)});
+    if (J.joint->freedom_count() > 0) out.push_back({J.nu_offset, in.joint[j]});
   }
   Triplets t;
   for (int i = 0; i < node_count(); ++i)
@@ -567,101 +665,126 @@ SpMat System::twist_map(const VecX& q) const {
   return E;
 }
 
-SpMat System::tree_null_space(const VecX& q) const {
+SpMat System::twist_map(const VecX& q) const {
+  return twist_map(q, input_blocks(q));
+}
+
+SpMat System::internal_null_space(const VecX& q) const {
   Triplets t;
-  for (int i = 0; i < node_count(); ++i)
-    add_block(t, 12 * i, 6 * i, fn::null_space(q.segment<12>(12 * i)));
+  for (int i = 0; i < node_count(); ++i) {
+    const int o = nodes_[i].q_offset;
+    if (node_kind(i) == NodeKind::frame)
+      add_block(t, o, 6 * i, fn::null_space(q.segment<12>(o)));
+    else
+      add_block(t, o, 6 * i, dn::twist_null_space(q.segment<6>(o)));
+  }
   SpMat Pint(n(), 6 * node_count());
   Pint.setFromTriplets(t.begin(), t.end());
-  return Pint * twist_map(q);
+  return Pint;
+}
+
+SpMat System::tree_null_space(const VecX& q) const {
+  return internal_null_space(q) * twist_map(q);
 }
 
 VecX System::update(const VecX& qn, const VecX& u) const {
   VecX q = qn;
+  // Rotation of every node over the step (joints/joint.hpp): what the joints below it apply.
+  std::vector<Mat3> step(node_count(), Mat3::Identity());
   for (std::size_t r = 0; r < roots_.size(); ++r) {
-    const int i = roots_[r];
-    q.segment<12>(12 * i) = fn::update(qn.segment<12>(12 * i), u.segment<6>(root_nu_offset_[r]));
+    const int i = roots_[r], o = nodes_[i].q_offset, uo = root_nu_offset_[r];
+    if (node_kind(i) == NodeKind::frame) {
+      q.segment<12>(o) = fn::update(qn.segment<12>(o), u.segment<6>(uo));
+      step[i] = rodrigues(u.segment<3>(uo + 3));
+    } else {
+      q.segment<6>(o) = dn::root_update(qn.segment<6>(o), u.segment<5>(uo), &step[i]);
+    }
   }
+  const Mat3 ground_step = Mat3::Identity();
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    q.segment<12>(12 * J.child) =
-        J.joint.update(node_q(qn, J.parent), node_q(q, J.parent), node_q(qn, J.child),
-                       u.segment(J.nu_offset, J.joint.freedom_count()));
+    const int c = J.child;
+    q.segment(nodes_[c].q_offset, coordinate_count(c)) = J.joint->update(
+        node_q(qn, J.parent), node_q(q, J.parent), J.parent >= 0 ? step[J.parent] : ground_step,
+        node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c]);
   }
   return q;
 }
 
-SpMat System::rotation_vector_tangent(const VecX& u) const {
+SpMat System::update_input_map(const VecX& qn, const VecX& u) const {
+  const VecX q1 = update(qn, u);
+  const InputBlocks in = update_input_blocks(qn, q1, u);
   Triplets t;
-  std::vector<bool> done(k_, false);
-  auto rot = [&](int o) {
-    add_block(t, o, o, rodrigues_tangent(u.segment<3>(o)));
-    for (int i = 0; i < 3; ++i) done[o + i] = true;
-  };
-  for (int o : root_nu_offset_) rot(o + 3);
-  for (int j : tree_order_) {
-    const int ro = joints_[j].joint.rotation_vector_offset();
-    if (ro >= 0) rot(joints_[j].nu_offset + ro);
-  }
-  for (int i = 0; i < k_; ++i)
-    if (!done[i]) t.emplace_back(i, i, 1.0);
-  SpMat D(k_, k_);
-  D.setFromTriplets(t.begin(), t.end());
-  return D;
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    add_block(t, 6 * roots_[r], root_nu_offset_[r], in.root[r]);
+  for (int j : tree_order_)
+    if (joints_[j].joint->freedom_count() > 0)
+      add_block(t, 6 * joints_[j].child, joints_[j].nu_offset, in.joint[j]);
+  SpMat B(6 * node_count(), k_);
+  B.setFromTriplets(t.begin(), t.end());
+  return B;
 }
 
 SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
-  return tree_null_space(update(qn, u)) * rotation_vector_tangent(u);
+  const VecX q1 = update(qn, u);
+  return internal_null_space(q1) * twist_map(q1, update_input_blocks(qn, q1, u));
 }
 
 void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const {
   const int N = node_count();
-  Triplets tl, tb, tp;
-  for (int i = 0; i < N; ++i) {
-    add_block(tl, 6 * i, 6 * i, Mat<6, 6>::Identity());
-    add_block(tp, 12 * i, 6 * i, fn::null_space(q.segment<12>(12 * i)));
-  }
+  const InputBlocks in = input_blocks(q);
+  Triplets tl, tb;
+  for (int i = 0; i < N; ++i) add_block(tl, 6 * i, 6 * i, Mat<6, 6>::Identity());
   for (std::size_t r = 0; r < roots_.size(); ++r)
-    add_block(tb, 6 * roots_[r], root_nu_offset_[r], Mat<6, 6>::Identity());
+    add_block(tb, 6 * roots_[r], root_nu_offset_[r], in.root[r]);
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
-    if (J.parent >= 0) add_block(tl, 6 * J.child, 6 * J.parent, -J.joint.parent_block(qa, qb));
-    if (J.joint.freedom_count() > 0)
-      add_block(tb, 6 * J.child, J.nu_offset, J.joint.freedom_block(qa, qb));
+    const auto qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    if (J.parent >= 0) add_block(tl, 6 * J.child, 6 * J.parent, -J.joint->parent_block(qa, qb));
+    if (J.joint->freedom_count() > 0) add_block(tb, 6 * J.child, J.nu_offset, in.joint[j]);
   }
   L.resize(6 * N, 6 * N);
   L.setFromTriplets(tl.begin(), tl.end());
   B.resize(6 * N, k_);
   B.setFromTriplets(tb.begin(), tb.end());
-  Pint.resize(n(), 6 * N);
-  Pint.setFromTriplets(tp.begin(), tp.end());
+  Pint = internal_null_space(q);
 }
 
 VecX System::reduce(const VecX& q, const VecX& r) const {
   const int N = node_count();
   VecX y(6 * N);
-  for (int i = 0; i < N; ++i)
-    y.segment<6>(6 * i) = fn::null_space(q.segment<12>(12 * i)).transpose() * r.segment<12>(12 * i);
+  for (int i = 0; i < N; ++i) {
+    const int o = nodes_[i].q_offset;
+    if (node_kind(i) == NodeKind::frame)
+      y.segment<6>(6 * i) = fn::null_space(q.segment<12>(o)).transpose() * r.segment<12>(o);
+    else
+      y.segment<6>(6 * i) = dn::twist_null_space(q.segment<6>(o)).transpose() * r.segment<6>(o);
+  }
   VecX out = VecX::Zero(k_);
   for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
     const auto& J = joints_[*it];
-    const fn::Q qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    const auto qa = node_q(q, J.parent), qb = node_q(q, J.child);
     const Vec<6> yc = y.segment<6>(6 * J.child);
-    if (J.parent >= 0) y.segment<6>(6 * J.parent) += J.joint.parent_block(qa, qb).transpose() * yc;
-    if (J.joint.freedom_count() > 0)
-      out.segment(J.nu_offset, J.joint.freedom_count()) =
-          J.joint.freedom_block(qa, qb).transpose() * yc;
+    if (J.parent >= 0) y.segment<6>(6 * J.parent) += J.joint->parent_block(qa, qb).transpose() * yc;
+    if (J.joint->freedom_count() > 0)
+      out.segment(J.nu_offset, J.joint->freedom_count()) =
+          J.joint->freedom_block(qa, qb).transpose() * yc;
   }
-  for (std::size_t r = 0; r < roots_.size(); ++r)
-    out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * roots_[r]);
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    if (node_kind(i) == NodeKind::frame)
+      out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * i);
+    else
+      out.segment<5>(root_nu_offset_[r]) =
+          dn::root_block(q.segment<6>(nodes_[i].q_offset)).transpose() * y.segment<6>(6 * i);
+  }
   return out;
 }
 
 Vec3 System::linear_momentum(const VecX& v) const {
   const VecX p = M_ * v;
   Vec3 s = Vec3::Zero();
-  for (int i = 0; i < node_count(); ++i) s += p.segment<3>(12 * i);
+  for (const Node& nd : nodes_) s += p.segment<3>(nd.q_offset);
   return s;
 }
 
@@ -673,20 +796,20 @@ Vec3 System::angular_momentum(const VecX& q, const VecX& v) const {
 }
 
 VecX System::beam_element_q(const VecX& q, int b, int e) const {
-  const auto& nodes = beams_[b].elements[e]->nodes();
-  VecX qe(24);
-  qe << q.segment<12>(12 * nodes[0]), q.segment<12>(12 * nodes[1]);
-  return qe;
+  return stacked(q, beams_[b].elements[e]->nodes());
 }
 
+// A director node's material points are φ + X₃ d (38); a frame node's φ + X_I d_I.
 Vec3 System::material_point(const VecX& q, int node, const Vec3& X) const {
-  const fn::Q qn = q.segment<12>(12 * node);
+  const int o = nodes_[node].q_offset;
+  if (node_kind(node) == NodeKind::director) return q.segment<3>(o) + X.z() * q.segment<3>(o + 3);
+  const fn::Q qn = q.segment<12>(o);
   return fn::phi(qn) + fn::directors(qn) * X;
 }
 
+// Material points are linear in q, so their velocity is the same map applied to v.
 Vec3 System::material_velocity(const VecX&, const VecX& v, int node, const Vec3& X) const {
-  const fn::Q vn = v.segment<12>(12 * node);
-  return fn::phi(vn) + fn::directors(vn) * X;
+  return material_point(v, node, X);
 }
 
 std::string System::describe_forest(const model::Model&) const {
@@ -709,15 +832,14 @@ std::string System::describe_forest(const model::Model&) const {
   auto name = [&](int i) { return i < 0 ? std::string("ground") : node_names_[i]; };
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    out += fmt::format("  tree  {:<16} {:<13} {} -> {}  (r = {}){}\n", J.name,
-                       model::to_string(J.type), name(J.parent), name(J.child),
-                       J.joint.freedom_count(), J.reversed ? "  [reversed]" : "");
+    out +=
+        fmt::format("  tree  {:<16} {:<13} {} -> {}  (r = {}){}\n", J.name, J.type, name(J.parent),
+                    name(J.child), J.joint->freedom_count(), J.reversed ? "  [reversed]" : "");
   }
   for (const auto& J : joints_)
     if (!J.tree)
-      out += fmt::format("  cut   {:<16} {:<13} {} -- {}  (m = {}, loop-closing)\n", J.name,
-                         model::to_string(J.type), name(J.parent), name(J.child),
-                         J.joint.constraint_count());
+      out += fmt::format("  cut   {:<16} {:<13} {} -- {}  (m = {}, loop-closing)\n", J.name, J.type,
+                         name(J.parent), name(J.child), J.joint->constraint_count());
   return out;
 }
 

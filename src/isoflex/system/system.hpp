@@ -1,15 +1,20 @@
 #pragma once
 // The compiled system (docs/architecture.md, "system"): DOF layout, elements, loads, joints, the
 // constraint graph with its spanning forest, and the assembly of every quantity the integrators
-// need. All nodes are frame nodes: the bodies (node i is body i), then the beam nodes.
+// need. Nodes: the bodies (node i is body i) and the beam nodes are frame nodes (12 coordinates,
+// DNSM-III (16)); shell nodes are director nodes (6 coordinates, (40)).
 //
 // Layouts
-//   q ∈ Rⁿ, n = 12·nodes: node i occupies q[12i, 12i+12).
-//   Constraint rows ("all rows"): 6 internal rows per node (DNSM-III (20)), then every joint's
-//   rows in model order. Selected rows: internal, tree joints, and the independent rows of the
-//   loop-closing joints; redundant rows are kept out of every system that is solved.
-//   ν ∈ Rᵏ (tree coordinates): a twist (6) for each root node, then τ (r entries) for each tree
-//   joint. q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
+//   q ∈ Rⁿ: node i occupies q[q_offset(i), q_offset(i) + 12 or 6), in node order.
+//   Constraint rows ("all rows"): the internal rows of every node in node order (6 for a frame
+//   node (20), 1 for a director node (41)), then every joint's rows in model order. Selected
+//   rows: internal, tree joints, and the independent rows of the loop-closing joints; redundant
+//   rows are kept out of every system that is solved.
+//   Twists: t ∈ R^{6N}, (φ̇, ω) per node (joints/joint.hpp); a director node's P_int is
+//   [I 0; 0 −d̂] (68).
+//   ν ∈ Rᵏ (tree coordinates): for each root node its free velocities (a twist (6) for a frame
+//   node, (φ̇, θ̇₁, θ̇₂) (47) for a director node), then τ (r entries) for each tree joint.
+//   q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
 #include <Eigen/SparseCore>
 #include <memory>
 #include <stdexcept>
@@ -19,6 +24,7 @@
 #include "isoflex/elements/beam_element.hpp"
 #include "isoflex/elements/element.hpp"
 #include "isoflex/joints/frame_joint.hpp"
+#include "isoflex/joints/joint.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/model/model.hpp"
 
@@ -34,8 +40,9 @@ class CompileError : public std::runtime_error {
 
 struct JointInstance {
   std::string name;
-  model::JointType type;
-  joints::FrameJoint joint;
+  std::string type;  // as in the model file ("revolute", "shell_intersection", …)
+  std::shared_ptr<const joints::Joint> joint;
+  const joints::FrameJoint* frame = nullptr;  // the same joint when it joins two frame nodes
   int parent = -1;  // node index, −1 = ground (the parent side of `joint`)
   int child = -1;
   bool tree = false;      // eliminated explicitly by the spanning forest
@@ -62,7 +69,16 @@ class System {
   static System compile(const model::Model& model);
 
   // Sizes
-  int node_count() const { return static_cast<int>(q0_.size() / 12); }
+  int node_count() const { return static_cast<int>(nodes_.size()); }
+  joints::NodeKind node_kind(int i) const { return nodes_[i].kind; }
+  int q_offset(int i) const { return nodes_[i].q_offset; }
+  int coordinate_count(int i) const { return joints::coordinate_count(nodes_[i].kind); }
+  int internal_row_offset(int i) const { return nodes_[i].row_offset; }
+  int internal_row_count(int i) const { return nodes_[i].kind == joints::NodeKind::frame ? 6 : 1; }
+  int internal_rows() const { return internal_rows_; }
+  bool frame_nodes_only() const { return director_nodes_ == 0; }
+  int director_node_count() const { return director_nodes_; }
+  const std::vector<int>& root_widths() const { return root_width_; }
   int n() const { return static_cast<int>(q0_.size()); }
   int m_all() const { return m_all_; }
   int m_selected() const { return static_cast<int>(selected_rows_.size()); }
@@ -78,8 +94,8 @@ class System {
   const std::vector<loads::BodyLoad>& loads() const { return loads_; }
   const std::vector<int>& root_nu_offsets() const { return root_nu_offset_; }
   const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
-  // Coordinates of a node (−1: the ground frame).
-  const frame_node::Q node_q(const VecX& q, int node) const;
+  // Coordinates of a node (−1: the ground frame), a view into q.
+  joints::Joint::CRef node_q(const VecX& q, int node) const;
   // Which joint (index) or −1 (internal) a row belongs to.
   int joint_of_row(int row) const;
   // Independent cut rows found by pivoted QR (must agree in count with the LU selection).
@@ -112,8 +128,11 @@ class System {
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
   VecX update(const VecX& qn, const VecX& u) const;
-  // ∂F/∂u = P_tree(q_{n+1}) D(u), D = I except T(θ) blocks on rotation vectors.
+  // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u).
   SpMat update_derivative(const VecX& qn, const VecX& u) const;
+  // ℬ̃(qₙ, u) (6N × k): ℬ at q_{n+1} = F(u) with rotation-vector columns multiplied by T(θ) and
+  // director tangent bases taken at tₙ (joints/joint.hpp, update_freedom_block).
+  SpMat update_input_map(const VecX& qn, const VecX& u) const;
 
   // Factors of the tree null space without forming it: (I − 𝒜(q)) t = ℬ(q) ν, so
   // P_tree = P_int (I − 𝒜)⁻¹ ℬ. `L` = I − 𝒜 (6N × 6N), `B` = ℬ (6N × k), `Pint` (n × 6N).
@@ -122,8 +141,6 @@ class System {
   void tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const;
   // 𝖯ᵀ r = ℬᵀ (I − 𝒜)⁻ᵀ P_intᵀ r by one sweep from the leaves to the roots.
   VecX reduce(const VecX& q, const VecX& r) const;
-  // D(u) of update_derivative (k × k).
-  SpMat rotation_vector_tangent(const VecX& u) const;
 
   // Momentum maps: p = Σ (M v)_φ, L = Σ_blocks q_k × (M v)_k (docs/theory).
   Vec3 linear_momentum(const VecX& v) const;
@@ -140,6 +157,31 @@ class System {
   std::string describe_forest(const model::Model& model) const;
 
  private:
+  struct Node {
+    joints::NodeKind kind;
+    int q_offset;
+    int row_offset;  // first internal row
+  };
+  // ℬ blocks: per root (6 × width) and per tree joint (6 × r, empty for others).
+  struct InputBlocks {
+    std::vector<MatX> root, joint;
+  };
+  InputBlocks input_blocks(const VecX& q) const;
+  InputBlocks update_input_blocks(const VecX& qn, const VecX& q1, const VecX& u) const;
+  SpMat twist_map(const VecX& q, const InputBlocks& in) const;
+  // Adds an element matrix (stacked node coordinates) to the global pattern.
+  void scatter(Triplets& t, const std::vector<int>& nodes, const MatX& Ke) const;
+  // A joint with a shell node on either side (joints/director_joints.hpp).
+  std::shared_ptr<const joints::Joint> director_joint(const model::Joint& J, int parent, int child,
+                                                      const std::string& what) const;
+  SpMat internal_null_space(const VecX& q) const;  // P_int (n × 6N)
+  void add_node(joints::NodeKind kind, const VecX& q0, const std::string& name, int beam);
+  // The coordinates of the given nodes, stacked (an element's q).
+  VecX stacked(const VecX& q, const std::vector<int>& nodes) const;
+
+  std::vector<Node> nodes_;
+  int internal_rows_ = 0, director_nodes_ = 0;
+  std::vector<int> root_width_;
   std::vector<std::unique_ptr<elements::Element>> elements_;
   std::vector<loads::BodyLoad> loads_;
   std::vector<JointInstance> joints_;
@@ -155,7 +197,7 @@ class System {
   double v0_error_ = 0.0;
   VecX q0_, v0_;
   SpMat M_;
-  frame_node::Q ground_;
+  VecX ground_;
 };
 
 }  // namespace isoflex::system

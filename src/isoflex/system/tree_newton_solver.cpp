@@ -17,12 +17,13 @@ using Vecr = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 TreeNewtonSolver::TreeNewtonSolver(const System& sys)
     : sys_(sys), link_of_node_(sys.node_count(), -1) {
+  if (!sys.frame_nodes_only()) return;  // the recursion is written for frame nodes
   for (std::size_t r = 0; r < sys.roots().size(); ++r)
     links_.push_back({sys.roots()[r], -1, -1, sys.root_nu_offsets()[r], 6, 3});
   for (int j : sys.tree_order()) {
     const auto& J = sys.joints()[j];
-    links_.push_back({J.child, J.parent, j, J.nu_offset, J.joint.freedom_count(),
-                      J.joint.rotation_vector_offset()});
+    links_.push_back({J.child, J.parent, j, J.nu_offset, J.frame->freedom_count(),
+                      J.frame->rotation_vector_offset()});
   }
   for (std::size_t l = 0; l < links_.size(); ++l)
     link_of_node_[links_[l].node] = static_cast<int>(l);
@@ -33,6 +34,7 @@ bool TreeNewtonSolver::neighbours(int a, int b) const {
 }
 
 bool TreeNewtonSolver::applicable() const {
+  if (!sys_.frame_nodes_only()) return false;
   if (!sys_.cut_rows().empty() || !sys_.redundant_rows().empty()) return false;
   for (const auto& e : sys_.elements())
     for (int a : e->nodes())
@@ -89,7 +91,7 @@ std::optional<VecX> TreeNewtonSolver::solve(const VecX& qm, const VecX& q1, cons
       Bm = Mat6::Identity();
       E = Mat6::Identity();
     } else {
-      const auto& J = sys_.joints()[k.joint].joint;
+      const auto& J = *sys_.joints()[k.joint].frame;
       const fn::Q qa_m = sys_.node_q(qm, p), qb_m = sys_.node_q(qm, g);
       const fn::Q qa_1 = sys_.node_q(q1, p), qb_1 = sys_.node_q(q1, g);
       Bm = J.freedom_block(qa_m, qb_m);
