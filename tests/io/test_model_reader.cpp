@@ -270,7 +270,7 @@ TEST(ModelReader, MissingRequiredKey) {
                 {"bodies:", "  - name: top", "    inertia: [1, 1, 1]", "    position: [0, 0, 0]"})),
             "m.yaml:2: bodies[0].mass: missing required key");
   EXPECT_EQ(error_of(lines({"name: x", "gravity: [0, 0, 1]"})),
-            "m.yaml:1: bodies: at least one body or beam is required");
+            "m.yaml:1: bodies: at least one body, beam or shell is required");
   EXPECT_EQ(error_of(with_bodies({"joints:", "  - type: spherical", "    point: [0, 0, 0]"})),
             "m.yaml:7: joints[0].body_b: missing required key");
   EXPECT_EQ(error_of(with_bodies(
@@ -292,7 +292,8 @@ TEST(ModelReader, UnknownKey) {
             "residual_tolerance, increment_tolerance, max_iterations)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
-            "bodies, beams, joints, loads, distributed_loads, probes, surfaces)");
+            "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
+            "shell_supports, shell_connections, shell_loads)");
   EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, size: [1, 1, 1]}"})),
             "m.yaml:6: bodies[0].shape.size: unknown key (valid keys: type, radius, offset)");
   EXPECT_EQ(error_of(with_bodies({"gravity: [0, 0, 0]", "gravity: [0, 0, 1]"})),
@@ -477,11 +478,11 @@ TEST(ModelReader, DocumentMustBeAMappingWithBodies) {
             "m.yaml:1: a model file must be a YAML mapping with the keys name, "
             "gravity, ...");
   EXPECT_EQ(error_of(lines({"name: x", "bodies: []"})),
-            "m.yaml:2: bodies: at least one body or beam is required");
+            "m.yaml:2: bodies: at least one body, beam or shell is required");
   EXPECT_EQ(error_of(lines({"name: x", "bodies:", "joints: []"})),
-            "m.yaml:2: bodies: at least one body or beam is required");
+            "m.yaml:2: bodies: at least one body, beam or shell is required");
   EXPECT_EQ(error_of(lines({"name: x", "beams: []"})),
-            "m.yaml:2: beams: at least one body or beam is required");
+            "m.yaml:2: beams: at least one body, beam or shell is required");
   EXPECT_EQ(error_of(lines({"name: x", "bodies: 3"})), "m.yaml:2: bodies: expected a list");
 }
 
@@ -828,7 +829,7 @@ TEST(ModelReader, BeamNodeReferenceErrors) {
   auto joint_to = [](std::string_view body_b) {
     return with_beam({"joints:", "  - type: fixed", "    body_b: " + std::string(body_b)});
   };
-  EXPECT_EQ(error_of(joint_to("crnk[3]")), "m.yaml:9: joints[0].body_b: no beam named \"crnk\"");
+  EXPECT_EQ(error_of(joint_to("crnk[3]")), "m.yaml:9: joints[0].body_b: no beam or shell named \"crnk\"");
   EXPECT_EQ(error_of(joint_to("crank[25]")),
             "m.yaml:9: joints[0].body_b: node index 25 out of range: beam \"crank\" has 21 nodes "
             "(0 … 20)");

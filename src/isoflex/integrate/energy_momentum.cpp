@@ -121,8 +121,12 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
     }
     case F::nullspace:
       return have ? VecX(s.q + settings_.dt * s.v) : s.q;
-    case F::reparametrized:
-      return have ? s.last_unknowns : VecX::Zero(sys_.k());
+    case F::reparametrized: {
+      VecX u = have ? s.last_unknowns : VecX::Zero(sys_.k());
+      if (have && !sys_.frame_nodes_only())
+        sys_.guess_director_increments(s.q, s.v, settings_.dt, u);
+      return u;
+    }
   }
   return {};
 }
@@ -317,7 +321,7 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
   NewtonMatrix J;
   const bool fast = bordered_ || tree_.has_value();
   const StepStats st = newton_loop(
-      x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt),
+      x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt), 6,
       [&](const VecX& y, bool matrix) { return evaluate(c, y, matrix ? &J : nullptr, fast); },
       [&](const VecX& R) { return correction(J, R); }, [&](const VecX&) { return ref; },
       [&](const VecX& dx) {

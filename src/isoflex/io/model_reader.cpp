@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoflex/io/shell_reader.hpp"
 #include "isoflex/io/surface_reader.hpp"
 #include "isoflex/io/yaml_fields.hpp"
 #include "isoflex/loads/time_function.hpp"
@@ -74,7 +75,8 @@ class Reader : YamlFields {
     expect_map(root, "");
     check_keys(root, "",
                {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
-                "distributed_loads", "probes", "surfaces"});
+                "distributed_loads", "probes", "surfaces", "shells", "shell_supports",
+                "shell_connections", "shell_loads"});
     Model m;
     m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -90,11 +92,19 @@ class Reader : YamlFields {
     if (const auto list = optional_list(root, "beams"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.beams.push_back(read_beam(list[i], indexed("beams", i)));
-    if (m.bodies.empty() && m.beams.empty()) {
+    m.surfaces = read_surfaces(root["surfaces"], file());  // surface_reader.cpp
+    const ShellReader shells(file());                      // shell_reader.cpp
+    m.shells = shells.shells(root["shells"], m.surfaces);
+    for (const auto& s : m.shells) {
+      if (body_lines_.contains(s.name) || beams_.contains(s.name))
+        fail(root["shells"], "shells", "\"" + s.name + "\" names a body or beam already");
+      beams_.emplace(s.name, BeamInfo{s.source.line, s.node_count(), true});
+    }
+    if (m.bodies.empty() && m.beams.empty() && m.shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];
-      if (!bodies && beams) fail(beams, "beams", "at least one body or beam is required");
-      fail(bodies ? bodies : root, "bodies", "at least one body or beam is required");
+      if (!bodies && beams) fail(beams, "beams", "at least one body, beam or shell is required");
+      fail(bodies ? bodies : root, "bodies", "at least one body, beam or shell is required");
     }
 
     if (const auto list = optional_list(root, "joints"))
@@ -110,30 +120,21 @@ class Reader : YamlFields {
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i)));
-    m.surfaces = read_surfaces(root["surfaces"], file());  // surface_reader.cpp
+    m.shell_supports = shells.supports(root["shell_supports"], m.shells);
+    for (auto& j :
+         shells.connections(root["shell_connections"], m.shells, [&](const std::string& name) {
+           if (body_lines_.contains(name)) return true;
+           const auto open = name.find('[');
+           const auto it = beams_.find(name.substr(0, open));
+           return open != std::string::npos && it != beams_.end() && !it->second.shell;
+         }))
+      m.joints.push_back(std::move(j));
+    m.shell_loads = shells.loads(root["shell_loads"], m.shells);
     return m;
   }
 
  private:
   // ---- values and blocks (YamlFields: structure, scalars, vectors) --------------------------
-
-  // Three time functions (numbers or expression strings in t), each compiled once to validate.
-  std::array<std::string, 3> functions(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 3)
-      fail(n, key, "expected a list of 3 numbers or expressions in t");
-    std::array<std::string, 3> f;
-    for (std::size_t i = 0; i < 3; ++i) {
-      const YAML::Node c = n[i];
-      if (!c.IsScalar()) fail(c, indexed(key, i), "expected a number or an expression in t");
-      f[i] = c.Scalar();
-      try {
-        loads::TimeFunction check(f[i]);
-      } catch (const std::invalid_argument& e) {
-        fail(c, indexed(key, i), e.what());
-      }
-    }
-    return f;
-  }
 
   // ---- blocks -----------------------------------------------------------------------------
 
@@ -257,9 +258,9 @@ class Reader : YamlFields {
     if (name.find_first_of("[]") != std::string::npos) return beam_node_ref(n, key, name);
     if (const auto it = beams_.find(name); it != beams_.end())
       fail(n, key,
-           fmt::format("\"{0}\" is a beam, not a body: name one of its nodes, {0}[i] with i = 0 "
+           fmt::format("\"{0}\" is a {2}, not a body: name one of its nodes, {0}[i] with i = 0 "
                        "… {1}",
-                       name, it->second.node_count - 1));
+                       name, it->second.node_count - 1, it->second.shell ? "shell" : "beam"));
     fail(n, key, "no body named \"" + name + "\"");
   }
 
@@ -281,7 +282,7 @@ class Reader : YamlFields {
     const std::string beam = ref.substr(0, open);
     const std::string digits = ref.substr(open + 1, ref.size() - open - 2);
     const auto it = beams_.find(beam);
-    if (it == beams_.end()) fail(n, key, "no beam named \"" + beam + "\"");
+    if (it == beams_.end()) fail(n, key, "no beam or shell named \"" + beam + "\"");
     const int count = it->second.node_count;
     long long index = 0;
     const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
@@ -429,7 +430,9 @@ class Reader : YamlFields {
     }
     const YAML::Node beam = require(n, p, "beam");
     l.beam = string(beam, join(p, "beam"));
-    if (!beams_.contains(l.beam)) {
+    if (!beams_.contains(l.beam) || beams_.at(l.beam).shell) {
+      if (beams_.contains(l.beam))
+        fail(beam, join(p, "beam"), "\"" + l.beam + "\" is a shell: load it with shell_loads");
       if (body_lines_.contains(l.beam))
         fail(beam, join(p, "beam"),
              "\"" + l.beam + "\" is a body: distributed loads act on beams only");
@@ -440,7 +443,8 @@ class Reader : YamlFields {
                          l.beam.substr(0, open)));
       fail(beam, join(p, "beam"), "no beam named \"" + l.beam + "\"");
     }
-    l.force_per_length = functions(require(n, p, "force_per_length"), join(p, "force_per_length"));
+    l.force_per_length =
+        time_functions(require(n, p, "force_per_length"), join(p, "force_per_length"));
     return l;
   }
 
@@ -538,8 +542,8 @@ class Reader : YamlFields {
       l.name = "load" + std::to_string(index);
     }
     l.body = body_ref(require(n, p, "body"), join(p, "body"), false);
-    if (const auto v = n["force"]) l.force = functions(v, join(p, "force"));
-    if (const auto v = n["moment"]) l.moment = functions(v, join(p, "moment"));
+    if (const auto v = n["force"]) l.force = time_functions(v, join(p, "force"));
+    if (const auto v = n["moment"]) l.moment = time_functions(v, join(p, "moment"));
     if (!l.force && !l.moment) fail(n, p, "at least one of force and moment is required");
     read_point(n, p, l.point, l.point_local);
     return l;
@@ -571,9 +575,11 @@ class Reader : YamlFields {
     if (local) point_local = vec3(local, join(p, "point_local"));
   }
 
+  // A beam or a shell: both have nodes "<name>[i]".
   struct BeamInfo {
     int line = 0;  // of its name
     int node_count = 0;
+    bool shell = false;
   };
 
   std::map<std::string, int> body_lines_;  // name → line of its definition

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <map>
 
+#include "isoflex/loads/time_function.hpp"
+
 namespace isoflex::io {
 
 namespace {
@@ -138,6 +140,25 @@ Mat3 YamlFields::triad(const YAML::Node& n, const std::string& key, const char* 
   if (!(defect <= kTriadTolerance) || !(R.determinant() > 0.0))
     fail(n, key, "orientation is not an orthonormal right-handed triad");
   return R;
+}
+
+std::string YamlFields::time_function(const YAML::Node& n, const std::string& key) const {
+  if (!n.IsScalar()) fail(n, key, "expected a number or an expression in t");
+  try {
+    loads::TimeFunction check(n.Scalar());
+  } catch (const std::invalid_argument& e) {
+    fail(n, key, e.what());
+  }
+  return n.Scalar();
+}
+
+std::array<std::string, 3> YamlFields::time_functions(const YAML::Node& n,
+                                                      const std::string& key) const {
+  if (!n.IsSequence() || n.size() != 3)
+    fail(n, key, "expected a list of 3 numbers or expressions in t");
+  std::array<std::string, 3> f;
+  for (std::size_t i = 0; i < 3; ++i) f[i] = time_function(n[i], indexed(key, i));
+  return f;
 }
 
 }  // namespace isoflex::io

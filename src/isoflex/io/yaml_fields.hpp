@@ -4,6 +4,7 @@
 // (docs/model-files.md), so the readers share one set of checks and messages.
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -51,6 +52,10 @@ class YamlFields {
   // Three axes (rows of the YAML list, columns of the result), orthonormal and right-handed to
   // 1e-9; `what` names them in the message, e.g. "principal axes [d1, d2, d3]".
   Mat3 triad(const YAML::Node& n, const std::string& key, const char* what) const;
+  // A time function (a number or an expression in t, muParser syntax), compiled once to
+  // validate it; three of them as a list.
+  std::string time_function(const YAML::Node& n, const std::string& key) const;
+  std::array<std::string, 3> time_functions(const YAML::Node& n, const std::string& key) const;
 
  private:
   std::string file_;

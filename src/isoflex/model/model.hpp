@@ -128,6 +128,70 @@ struct DistributedLoad {
   Source source;
 };
 
+// --- Shells (Reissner–Mindlin director shells, DNSM-III §4) ---------------------------------
+
+struct ShellMaterial {
+  double E = 0, nu = 0, thickness = 0, density = 0;
+  double shear_correction = 5.0 / 6.0;
+};
+
+// A shell meshed with bilinear four-node elements; its nodes are director nodes (φ, d) named
+// "<name>[i]" (i = 0 … node_count() − 1) wherever a body name is expected. A structured mesh
+// (a plate or a sampled surface) numbers its nodes i + (grid_u + 1) j along u first and has the
+// edges u0 (i = 0), u1 (i = grid_u), v0 (j = 0) and v1 (j = grid_v).
+struct Shell {
+  std::string name;
+  std::vector<Vec3> points;               // nodes at t = 0
+  std::vector<Vec3> directors;            // unit directors at t = 0, one per node
+  std::vector<std::array<int, 4>> quads;  // counter-clockwise seen from the directors' side
+  int grid_u = 0, grid_v = 0;             // elements along u and v; 0: unstructured
+  ShellMaterial material;
+  Source source;
+
+  int node_count() const { return static_cast<int>(points.size()); }
+  // Nodes of a grid edge ("u0", "u1", "v0", "v1") in order along it; empty if there is none.
+  std::vector<int> edge(const std::string& name) const {
+    std::vector<int> out;
+    if (grid_u <= 0 || grid_v <= 0) return out;
+    const int nu = grid_u + 1;
+    if (name == "u0" || name == "u1")
+      for (int j = 0; j <= grid_v; ++j) out.push_back((name == "u0" ? 0 : grid_u) + nu * j);
+    else if (name == "v0" || name == "v1")
+      for (int i = 0; i <= grid_u; ++i) out.push_back(i + nu * (name == "v0" ? 0 : grid_v));
+    return out;
+  }
+};
+
+// How a supported shell node's director may turn: freely, not at all, or only about `axis`
+// (a symmetry plane with normal `axis`: the director stays in the plane).
+enum class DirectorSupport { free, fixed, about_axis };
+
+// A boundary condition on shell nodes: fixed translation components and the director's freedom.
+struct ShellSupport {
+  std::string shell;
+  std::vector<int> nodes;
+  std::array<bool, 3> fixed_translation = {false, false, false};
+  DirectorSupport director = DirectorSupport::free;
+  Vec3 axis = Vec3::Zero();
+  Source source;
+};
+
+// Loads on a shell, each component a time function of t:
+//   nodal: `force` and/or `moment` at each of `nodes` (per node; with per_length, per unit
+//     length of the edge the nodes lie along, lumped by the linear shape functions);
+//   pressure: dead, along the reference normal (the directors' side), per unit reference area;
+//   area_force: a dead force per unit reference area (self-weight, snow load).
+struct ShellLoad {
+  std::string name;
+  std::string shell;
+  std::vector<int> nodes;
+  bool per_length = false;
+  std::optional<std::array<std::string, 3>> force, moment;
+  std::optional<std::string> pressure;
+  std::optional<std::array<std::string, 3>> area_force;
+  Source source;
+};
+
 // A named material point whose motion is recorded (probes.csv, summary.json).
 struct Probe {
   std::string name;
@@ -211,6 +275,9 @@ struct Model {
   std::vector<Joint> joints;
   std::vector<Load> loads;
   std::vector<DistributedLoad> distributed_loads;
+  std::vector<Shell> shells;
+  std::vector<ShellSupport> shell_supports;
+  std::vector<ShellLoad> shell_loads;
   std::vector<Probe> probes;
   std::vector<Surface> surfaces;
   Solver solver;

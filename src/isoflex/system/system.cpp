@@ -9,6 +9,7 @@
 #include "isoflex/elements/beam_element.hpp"
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
+#include "isoflex/joints/director_joints.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
@@ -168,6 +169,40 @@ System System::compile(const model::Model& model) {
     next += static_cast<int>(q.size());
     s.beams_.push_back(std::move(inst));
   }
+  // Shells: director nodes (40) "<shell>[i]" and bilinear director-shell elements.
+  for (std::size_t si = 0; si < model.shells.size(); ++si) {
+    const auto& S = model.shells[si];
+    const std::string what = fmt::format("shells[{}]", si);
+    ShellInstance inst{S.name, {}, {}};
+    for (int k = 0; k < S.node_count(); ++k) {
+      const std::string name = fmt::format("{}[{}]", S.name, k);
+      index[name] = next + k;
+      dn::Q q;
+      q << S.points[k], S.directors[k];
+      s.add_node(NodeKind::director, q, name, static_cast<int>(model.beams.size() + si));
+      inst.nodes.push_back(next + k);
+    }
+    const elements::ShellMaterial mat{S.material.E, S.material.nu, S.material.thickness,
+                                      S.material.density, S.material.shear_correction};
+    for (std::size_t e = 0; e < S.quads.size(); ++e) {
+      std::array<int, 4> nodes;
+      Vec<24> q0;
+      for (int a = 0; a < 4; ++a) {
+        nodes[a] = next + S.quads[e][a];
+        q0.segment<6>(6 * a) << S.points[S.quads[e][a]], S.directors[S.quads[e][a]];
+      }
+      try {
+        s.elements_.push_back(
+            std::make_unique<elements::DirectorShellElement>(nodes, q0, mat, model.gravity));
+      } catch (const std::exception& ex) {
+        fail(S.source, fmt::format("{} element {}", what, e), ex.what());
+      }
+      inst.elements.push_back(
+          static_cast<const elements::DirectorShellElement*>(s.elements_.back().get()));
+    }
+    next += S.node_count();
+    s.shells_.push_back(std::move(inst));
+  }
   auto find_body = [&](const std::string& name, const model::Source& src, const std::string& what) {
     if (name == "ground") return -1;
     auto it = index.find(name);
@@ -235,6 +270,69 @@ System System::compile(const model::Model& model) {
     }
   }
 
+  // Shell loads: nodal forces and moments, edge loads lumped by the linear shape functions
+  // (½ of each edge segment to its end nodes), area loads by the consistent nodal weights
+  // ∫ N_a dA and ∫ N_a N dA of the elements (all dead loads).
+  for (std::size_t l = 0; l < model.shell_loads.size(); ++l) {
+    const auto& L = model.shell_loads[l];
+    const std::string what = fmt::format("shell_loads[{}]", l);
+    const auto shell = std::find_if(s.shells_.begin(), s.shells_.end(),
+                                    [&](const ShellInstance& x) { return x.name == L.shell; });
+    if (shell == s.shells_.end()) fail(L.source, what + ".shell", "no shell named " + L.shell);
+    // Nodal vectors per shell node: weight × expression.
+    std::vector<Vec3> area(shell->nodes.size(), Vec3::Zero());
+    std::vector<double> weight(shell->nodes.size(), 0.0);
+    auto scaled = [&](const std::array<std::string, 3>& e, const Vec3& w) {
+      std::array<loads::TimeFunction, 3> f;
+      try {
+        for (int c = 0; c < 3; ++c)
+          f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", e[c], w(c)));
+      } catch (const std::exception& ex) {
+        fail(L.source, what, ex.what());
+      }
+      return f;
+    };
+    const int first = shell->nodes.front();
+    if (L.pressure || L.area_force) {
+      for (const auto* e : shell->elements) {
+        const Vec<4> a = e->nodal_areas();
+        const Mat<3, 4> na = e->nodal_normal_areas();
+        for (int k = 0; k < 4; ++k) {
+          weight[e->nodes()[k] - first] += a(k);
+          area[e->nodes()[k] - first] += na.col(k);
+        }
+      }
+      for (std::size_t k = 0; k < shell->nodes.size(); ++k) {
+        if (weight[k] == 0.0) continue;
+        std::optional<std::array<loads::TimeFunction, 3>> f;
+        if (L.pressure) {
+          f = scaled({*L.pressure, *L.pressure, *L.pressure}, area[k]);
+        } else {
+          f = scaled(*L.area_force, Vec3::Constant(weight[k]));
+        }
+        s.director_loads_.emplace_back(shell->nodes[k], f, std::nullopt);
+      }
+      continue;
+    }
+    std::vector<double> w(L.nodes.size(), 1.0);
+    if (L.per_length) {
+      std::fill(w.begin(), w.end(), 0.0);
+      for (std::size_t k = 0; k + 1 < L.nodes.size(); ++k) {
+        const double len = (s.q0_.segment<3>(s.q_offset(first + L.nodes[k + 1])) -
+                            s.q0_.segment<3>(s.q_offset(first + L.nodes[k])))
+                               .norm();
+        w[k] += 0.5 * len;
+        w[k + 1] += 0.5 * len;
+      }
+    }
+    for (std::size_t k = 0; k < L.nodes.size(); ++k) {
+      std::optional<std::array<loads::TimeFunction, 3>> f, m;
+      if (L.force) f = scaled(*L.force, Vec3::Constant(w[k]));
+      if (L.moment) m = scaled(*L.moment, Vec3::Constant(w[k]));
+      s.director_loads_.emplace_back(first + L.nodes[k], f, m);
+    }
+  }
+
   // Probes.
   for (std::size_t p = 0; p < model.probes.size(); ++p) {
     const auto& P = model.probes[p];
@@ -269,6 +367,40 @@ System System::compile(const model::Model& model) {
       fail(J.source, what + ".body_a", "a fixed support joins a body to the ground");
     edges.push_back({a, b});
   }
+  // Shell supports: a joint from the ground to each supported node (joints/director_joints.hpp).
+  struct Support {
+    std::string name;
+    std::shared_ptr<const joints::Joint> joint;
+    model::Source source;
+  };
+  std::vector<Support> supports;
+  for (std::size_t k = 0; k < model.shell_supports.size(); ++k) {
+    const auto& S = model.shell_supports[k];
+    const auto shell = std::find_if(s.shells_.begin(), s.shells_.end(),
+                                    [&](const ShellInstance& x) { return x.name == S.shell; });
+    const std::string what = fmt::format("shell_supports[{}]", k);
+    if (shell == s.shells_.end()) fail(S.source, what + ".shell", "no shell named " + S.shell);
+    joints::DirectorSupportSpec spec;
+    spec.fix_translation = S.fixed_translation;
+    spec.director = S.director == model::DirectorSupport::free ? joints::DirectorCondition::free
+                    : S.director == model::DirectorSupport::fixed
+                        ? joints::DirectorCondition::fixed
+                        : joints::DirectorCondition::about_axis;
+    spec.axis = S.axis;
+    for (int i : S.nodes) {
+      const int node = shell->nodes[i];
+      try {
+        supports.push_back({fmt::format("{}:{}", what, s.node_names_[node]),
+                            std::make_shared<joints::DirectorSupport>(
+                                dn::Q(s.q0_.segment<6>(s.q_offset(node))), spec),
+                            S.source});
+      } catch (const std::exception& e) {
+        fail(S.source, what, fmt::format("node {}: {}", i, e.what()));
+      }
+      edges.push_back({-1, node});
+    }
+  }
+  const std::size_t n_model_joints = model.joints.size();
   std::vector<int> tree_parent_side(edges.size(), 0);  // 0 not in tree, +1 a→b, −1 b→a
   std::vector<bool> reached(N, false);
   std::vector<int> order;  // tree joints in BFS order
@@ -304,7 +436,7 @@ System System::compile(const model::Model& model) {
 
   // Joint instances, rows and ν layout.
   int row = s.internal_rows_;
-  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+  for (std::size_t j = 0; j < n_model_joints; ++j) {
     const auto& J = model.joints[j];
     const std::string what = fmt::format("joints[{}]", j);
     const bool rev = tree_parent_side[j] == -1;
@@ -367,6 +499,13 @@ System System::compile(const model::Model& model) {
                          tree, rev, row, -1});
     row += frame->constraint_count();
   }
+  // Shell supports after the model joints: joints_ is indexed like edges.
+  for (std::size_t j = n_model_joints; j < edges.size(); ++j) {
+    const Support& S = supports[j - n_model_joints];
+    s.joints_.push_back({S.name, "shell_support", S.joint, nullptr, -1, edges[j].b,
+                         tree_parent_side[j] != 0, false, row, -1});
+    row += S.joint->constraint_count();
+  }
   s.m_all_ = row;
   int nu = 0;
   for (int root : s.roots_) {
@@ -385,12 +524,14 @@ System System::compile(const model::Model& model) {
   // sliding joints and the parent side of a joint given by point_b must lie where stated).
   {
     const VecX c = s.constraints(s.q0_);
-    for (std::size_t j = 0; j < s.joints_.size(); ++j) {
-      const auto& J = s.joints_[j];
+    for (const auto& J : s.joints_) {
       const double v = c.segment(J.row_offset, J.joint->constraint_count()).cwiseAbs().maxCoeff();
-      if (v > 1e-9)
-        fail(model.joints[j].source, fmt::format("joints[{}]", j),
-             fmt::format("not assembled at t = 0 (|Φ| = {:.3g})", v));
+      if (v <= 1e-9) continue;
+      const std::size_t j = static_cast<std::size_t>(&J - s.joints_.data());
+      const bool support = j >= n_model_joints;
+      fail(support ? supports[j - n_model_joints].source : model.joints[j].source,
+           support ? supports[j - n_model_joints].name : fmt::format("joints[{}]", j),
+           fmt::format("not assembled at t = 0 (|Φ| = {:.3g})", v));
     }
   }
 
@@ -485,9 +626,29 @@ void System::scatter(Triplets& t, const std::vector<int>& nodes, const MatX& Ke)
   }
 }
 
-std::shared_ptr<const joints::Joint> System::director_joint(const model::Joint& J, int, int,
+std::shared_ptr<const joints::Joint> System::director_joint(const model::Joint& J, int parent,
+                                                            int child,
                                                             const std::string& what) const {
-  fail(J.source, what, "joints with shell nodes are not available yet");
+  using T = model::JointType;
+  if (J.type != T::rigid && J.type != T::fixed)
+    fail(J.source, what + ".type",
+         fmt::format("a shell node joins bodies, beam nodes and other shell nodes rigidly only "
+                     "(type rigid, or fixed to the ground; found {}): DNSM-III Ex. 5.3",
+                     model::to_string(J.type)));
+  const bool director_parent = parent >= 0 && node_kind(parent) == NodeKind::director;
+  const bool director_child = node_kind(child) == NodeKind::director;
+  try {
+    if (director_parent && director_child)
+      return std::make_shared<joints::ShellIntersection>(dn::Q(node_q(q0_, parent)),
+                                                         dn::Q(node_q(q0_, child)));
+    if (director_child)
+      return std::make_shared<joints::DirectorOnFrame>(fn::Q(node_q(q0_, parent)),
+                                                       dn::Q(node_q(q0_, child)));
+    return std::make_shared<joints::FrameOnDirector>(dn::Q(node_q(q0_, parent)),
+                                                     fn::Q(node_q(q0_, child)));
+  } catch (const std::invalid_argument& e) {
+    fail(J.source, what, e.what());
+  }
 }
 
 double System::potential(const VecX& q) const {
@@ -516,6 +677,12 @@ VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat
     const int o = nodes_[L.node()].q_offset;
     const fn::Q qm = 0.5 * (qn.segment<12>(o) + qn1.segment<12>(o));
     f.segment<12>(o) -= L.generalized_force(qm, t_mid);
+    if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
+  }
+  for (const auto& L : director_loads_) {
+    const int o = nodes_[L.node()].q_offset;
+    const dn::Q qm = 0.5 * (qn.segment<6>(o) + qn1.segment<6>(o));
+    f.segment<6>(o) -= L.generalized_force(qm, t_mid);
     if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
   }
   if (K) {
@@ -709,6 +876,18 @@ VecX System::update(const VecX& qn, const VecX& u) const {
         node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c]);
   }
   return q;
+}
+
+void System::guess_director_increments(const VecX& q, const VecX& v, double dt, VecX& u) const {
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    if (node_kind(i) != NodeKind::director) continue;
+    const int o = nodes_[i].q_offset;
+    const Vec3 d = q.segment<3>(o + 3);
+    const Vec3 w = dt * d.cross(Vec3(v.segment<3>(o + 3)));
+    const Mat<3, 2> b = dn::tangent_basis(d);
+    u.segment<5>(root_nu_offset_[r]) << dt * v.segment<3>(o), w.dot(b.col(1)), -w.dot(b.col(0));
+  }
 }
 
 SpMat System::update_input_map(const VecX& qn, const VecX& u) const {

@@ -22,10 +22,12 @@
 #include <vector>
 
 #include "isoflex/elements/beam_element.hpp"
+#include "isoflex/elements/director_shell_element.hpp"
 #include "isoflex/elements/element.hpp"
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/joints/joint.hpp"
 #include "isoflex/loads/body_load.hpp"
+#include "isoflex/loads/director_node_load.hpp"
 #include "isoflex/model/model.hpp"
 
 namespace isoflex::system {
@@ -56,6 +58,13 @@ struct BeamInstance {
   std::string name;
   std::vector<int> nodes;
   std::vector<const elements::BeamElement*> elements;
+};
+
+// A shell of the model: its director nodes (model numbering) and its elements.
+struct ShellInstance {
+  std::string name;
+  std::vector<int> nodes;
+  std::vector<const elements::DirectorShellElement*> elements;
 };
 
 struct ProbeInstance {
@@ -92,6 +101,7 @@ class System {
   const std::vector<int>& roots() const { return roots_; }
   const std::vector<std::unique_ptr<elements::Element>>& elements() const { return elements_; }
   const std::vector<loads::BodyLoad>& loads() const { return loads_; }
+  const std::vector<loads::DirectorNodeLoad>& director_loads() const { return director_loads_; }
   const std::vector<int>& root_nu_offsets() const { return root_nu_offset_; }
   const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
   // Coordinates of a node (−1: the ground frame), a view into q.
@@ -128,6 +138,10 @@ class System {
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
   VecX update(const VecX& qn, const VecX& u) const;
+  // Overwrites the entries of u that belong to free director nodes with the increment of a
+  // step at constant velocity, (Δt φ̇, Δt ω·d₂, −Δt ω·d₁) with ω = d × ḋ: the last step's
+  // increments are in the tangent bases of the last step, which may differ (tangent_basis).
+  void guess_director_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
   // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u).
   SpMat update_derivative(const VecX& qn, const VecX& u) const;
   // ℬ̃(qₙ, u) (6N × k): ℬ at q_{n+1} = F(u) with rotation-vector columns multiplied by T(θ) and
@@ -148,6 +162,7 @@ class System {
 
   const std::vector<ProbeInstance>& probes() const { return probes_; }
   const std::vector<BeamInstance>& beams() const { return beams_; }
+  const std::vector<ShellInstance>& shells() const { return shells_; }
   const std::string& node_name(int i) const { return node_names_[i]; }
   // Stacked coordinates (24) of element e of beam b.
   VecX beam_element_q(const VecX& q, int b, int e) const;
@@ -184,6 +199,8 @@ class System {
   std::vector<int> root_width_;
   std::vector<std::unique_ptr<elements::Element>> elements_;
   std::vector<loads::BodyLoad> loads_;
+  std::vector<loads::DirectorNodeLoad> director_loads_;
+  std::vector<ShellInstance> shells_;
   std::vector<JointInstance> joints_;
   std::vector<int> tree_order_;  // joint indices, parents before children
   std::vector<int> roots_;
@@ -192,7 +209,7 @@ class System {
   std::vector<ProbeInstance> probes_;
   std::vector<BeamInstance> beams_;
   std::vector<std::string> node_names_;  // body name or "<beam>[i]"
-  std::vector<int> node_beam_;           // beam index of a node, −1 for a body
+  std::vector<int> node_beam_;  // beam index (shells: after the beams) of a node, −1 for a body
   int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
   double v0_error_ = 0.0;
   VecX q0_, v0_;

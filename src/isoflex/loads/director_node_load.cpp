@@ -1,0 +1,30 @@
+#include "isoflex/loads/director_node_load.hpp"
+
+#include "isoflex/math/skew.hpp"
+
+namespace isoflex::loads {
+
+DirectorNodeLoad::DirectorNodeLoad(int node, std::optional<std::array<TimeFunction, 3>> force,
+                                   std::optional<std::array<TimeFunction, 3>> moment)
+    : node_(node), force_(std::move(force)), moment_(std::move(moment)) {}
+
+namespace {
+Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
+  if (!f) return Vec3::Zero();
+  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
+}
+}  // namespace
+
+Vec<6> DirectorNodeLoad::generalized_force(const Vec<6>& q, double t) const {
+  Vec<6> f;
+  f << evaluate(force_, t), evaluate(moment_, t).cross(q.tail<3>());
+  return f;
+}
+
+Mat<6, 6> DirectorNodeLoad::generalized_force_derivative(double t) const {
+  Mat<6, 6> K = Mat<6, 6>::Zero();
+  K.bottomRightCorner<3, 3>() = skew(evaluate(moment_, t));
+  return K;
+}
+
+}  // namespace isoflex::loads
