@@ -219,3 +219,30 @@ TEST(EnergyMomentum, BorderedReducedSolveEqualsExplicitNullSpace) {
               1e-12);
   }
 }
+
+// A step whose Newton iteration fails is retried in halves (solver.max_subdivisions): the run
+// goes on with the nominal step count and times, and every part conserves energy.
+TEST(EnergyMomentum, FailingStepsAreSubdividedWhenAllowed) {
+  auto m = test::heavy_top(F::reparametrized);
+  m.solver.dt = 0.05;
+  m.solver.max_iterations = 3;  // too few for a full step of the fast top
+  {
+    const auto sys = system::System::compile(m);
+    EnergyMomentumIntegrator integ(sys, m.solver);
+    auto s = integ.initial_state();
+    EXPECT_THROW(integ.step(s), integrate::NewtonFailure);
+    EXPECT_EQ(s.step, 0);  // left at the last completed step
+    EXPECT_EQ(s.t, 0.0);
+  }
+  m.solver.max_subdivisions = 6;
+  const auto sys = system::System::compile(m);
+  EnergyMomentumIntegrator integ(sys, m.solver);
+  auto s = integ.initial_state();
+  const double E0 = integ.snapshot(s, {}, {}).total_energy;
+  int substeps = 0;
+  for (int i = 0; i < 4; ++i) substeps += integ.step(s).substeps;
+  EXPECT_EQ(s.step, 4);
+  EXPECT_NEAR(s.t, 0.2, 1e-15);
+  EXPECT_GT(substeps, 4);
+  EXPECT_LT(std::abs(integ.snapshot(s, {}, {}).total_energy - E0), 1e-12 * std::abs(E0));
+}

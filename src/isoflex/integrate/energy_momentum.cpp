@@ -100,8 +100,9 @@ State EnergyMomentumIntegrator::initial_state() const {
   return s;
 }
 
-EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const State& s) const {
-  StepContext c{&s, settings_.dt, s.t + 0.5 * settings_.dt, {}, {}};
+EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const State& s,
+                                                                        double dt) const {
+  StepContext c{&s, dt, s.t + 0.5 * dt, {}, {}};
   if (settings_.formulation != F::constrained && !sys_.cut_rows().empty()) {
     const MatX Gc = MatX(sys_.jacobian_rows(s.q, sys_.cut_rows()) * sys_.tree_null_space(s.q));
     solve::qr_range_and_null_space(Gc, c.W, c.U);
@@ -109,22 +110,22 @@ EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const St
   return c;
 }
 
-VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
+VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt) const {
   const bool have = s.last_unknowns.size() == unknowns();
   switch (settings_.formulation) {
     case F::constrained: {
       VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
       // q_{n+1} ≈ qₙ + Δt vₙ, λ ≈ λₙ (extrapolating the last increment diverged on a whipping
       // chain).
-      x.head(sys_.n()) = s.q + (have ? VecX(settings_.dt * s.v) : VecX::Zero(sys_.n()));
+      x.head(sys_.n()) = s.q + (have ? VecX(dt * s.v) : VecX::Zero(sys_.n()));
       return x;
     }
     case F::nullspace:
-      return have ? VecX(s.q + settings_.dt * s.v) : s.q;
+      return have ? VecX(s.q + dt * s.v) : s.q;
     case F::reparametrized: {
-      VecX u = have ? s.last_unknowns : VecX::Zero(sys_.k());
-      if (have && !sys_.frame_nodes_only())
-        sys_.guess_director_increments(s.q, s.v, settings_.dt, u);
+      VecX u = VecX::Zero(sys_.k());
+      if (have) u = s.last_unknowns * (s.last_dt > 0.0 ? dt / s.last_dt : 1.0);
+      if (have && !sys_.frame_nodes_only()) sys_.guess_director_increments(s.q, s.v, dt, u);
       return u;
     }
   }
@@ -303,7 +304,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
 }
 
 VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) const {
-  const StepContext c = context(s);
+  const StepContext c = context(s, settings_.dt);
   NewtonMatrix Js;
   const VecX R = evaluate(c, x, J ? &Js : nullptr, false);
   if (J) *J = MatX(Js.A);
@@ -311,13 +312,38 @@ VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) 
 }
 
 StepStats EnergyMomentumIntegrator::step(State& s) const {
-  const StepContext c = context(s);
+  const State start = s;  // a failure leaves s at the last completed step
+  try {
+    const StepStats st = advance(s, settings_.dt, 0);
+    s.step = start.step + 1;
+    return st;
+  } catch (const NewtonFailure&) {
+    s = start;
+    throw;
+  }
+}
+
+// Each part is itself an energy–momentum step, so the conservation properties hold whatever the
+// subdivision; only the time nodes in between are not written.
+StepStats EnergyMomentumIntegrator::advance(State& s, double dt, int depth) const {
+  try {
+    return attempt(s, dt);
+  } catch (const NewtonFailure&) {
+    if (depth >= settings_.max_subdivisions) throw;
+  }
+  const StepStats a = advance(s, 0.5 * dt, depth + 1);
+  const StepStats b = advance(s, 0.5 * dt, depth + 1);
+  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
+}
+
+StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
+  const StepContext c = context(s, dt);
   // Residual scale: the momentum terms that cancel in r₀, so that the tolerance is relative to
   // the round-off level of the equations.
   const double ref = std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
                                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-  VecX x = start_unknowns(s);
+  VecX x = start_unknowns(s, dt);
   NewtonMatrix J;
   const bool fast = bordered_ || tree_.has_value();
   const StepStats st = newton_loop(
@@ -335,10 +361,10 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
   const VecX q1 = configuration(c, x);
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
+  s.last_dt = dt;
   s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
   s.q = q1;
   s.t += c.dt;
-  ++s.step;
   return st;
 }
 
@@ -384,6 +410,14 @@ Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
           {beam.name, e, beam.elements[e]->nodes()[0], beam.elements[e]->nodes()[1], r.n, r.m});
     }
   }
+  for (const auto& shell : sys_.shells())
+    for (int e = 0; e < static_cast<int>(shell.elements.size()); ++e) {
+      const auto* el = shell.elements[e];
+      const auto r = el->stress_resultants(Vec<24>(sys_.stacked(s.q, el->nodes())));
+      ShellElementValue v{shell.name, e, {}, r.frame, r.n, r.m, r.q};
+      for (int a = 0; a < 4; ++a) v.nodes[a] = el->nodes()[a];
+      out.shell_elements.push_back(v);
+    }
   for (const auto& p : sys_.probes()) {
     ProbeValue pv;
     pv.name = p.name;

@@ -36,14 +36,16 @@ struct State {
   int step = 0;
   double t = 0.0;
   VecX q, v;
-  // Converged unknowns of the last step (empty at the start): the Newton predictor extrapolates
-  // with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ, λ ≈ λₙ).
+  // Converged unknowns of the last step (empty at the start) and its length: the Newton
+  // predictor extrapolates with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ Δt/Δt_last, λ ≈ λₙ).
   VecX last_unknowns;
+  double last_dt = 0.0;
 };
 
 struct StepStats {
   int iterations = 0;
   double residual = 0.0;  // ‖R‖∞ at the last evaluation
+  int substeps = 1;       // > 1: the step was subdivided (model::Solver::max_subdivisions)
 };
 
 // How the reduced Newton systems (null space, reparametrized) are solved: by forming 𝖯 and the
@@ -76,7 +78,7 @@ class EnergyMomentumIntegrator {
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
   // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the
   // first step, the extrapolation of the last step after that.
-  VecX start_unknowns(const State& s) const;
+  VecX start_unknowns(const State& s) const { return start_unknowns(s, settings_.dt); }
   VecX residual(const State& s, const VecX& x, MatX* J) const;
 
   Snapshot snapshot(const State& s, const StepStats& st,
@@ -84,7 +86,12 @@ class EnergyMomentumIntegrator {
 
  private:
   struct StepContext;
-  StepContext context(const State& s) const;
+  StepContext context(const State& s, double dt) const;
+  VecX start_unknowns(const State& s, double dt) const;
+  // One step of length dt (s.step unchanged); throws NewtonFailure.
+  StepStats attempt(State& s, double dt) const;
+  // attempt, retried as two steps of dt/2 on failure while depth < max_subdivisions.
+  StepStats advance(State& s, double dt, int depth) const;
   // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
   // b = −R placed at rows [row, row + R.size()).
   // On the tree path only K̂ and the configurations are kept; the solve is the recursion.

@@ -1,6 +1,7 @@
 #pragma once
 // What an integrator reports after the initial state and after every step: plain values, so that
 // writers (io/) and the progress display (app/) need nothing from system/ or integrate/ internals.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,18 @@ struct BeamElementValue {
   Vec3 n = Vec3::Zero(), m = Vec3::Zero();
 };
 
+// Stress resultants of one director-shell element at its centre (docs/theory/shell.md): membrane
+// forces n^{αβ}, bending moments m^{αβ} and shear forces q^α per unit reference length, in the
+// element's reference frame (columns e₁, e₂ tangent, e₃ the reference normal).
+struct ShellElementValue {
+  std::string shell;
+  int element = 0;
+  std::array<int, 4> nodes{};  // indices into Snapshot::bodies (the node poses)
+  Mat3 frame = Mat3::Identity();
+  Eigen::Matrix2d n = Eigen::Matrix2d::Zero(), m = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d q = Eigen::Vector2d::Zero();
+};
+
 struct Snapshot {
   int step = 0;  // 0 = initial state
   double t = 0.0;
@@ -43,9 +56,12 @@ struct Snapshot {
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints
   int newton_iterations = 0;             // of this step (0 for the initial state)
   double residual = 0.0;                 // final Newton residual norm of this step
-  std::vector<BodyPose> bodies;  // every node: the bodies in model order, then the beam nodes
+  // Every node: the bodies in model order, then the beam nodes, then the shell nodes (position φ,
+  // directors (d₁, d₂, d) with d the shell director).
+  std::vector<BodyPose> bodies;
   std::vector<ProbeValue> probes;
   std::vector<BeamElementValue> beam_elements;
+  std::vector<ShellElementValue> shell_elements;
 };
 
 // Observers are called in order after the initial state and after every converged step.

@@ -259,6 +259,9 @@ struct Solver {
   double residual_tolerance = 1e-16;  // ‖R‖∞ relative to max(1, (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞)
   double increment_tolerance = 1e-11;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
   int max_iterations = 25;
+  // A time step whose Newton iteration fails is retried as two half steps, at most this many
+  // halvings deep (0: never; the run stops at the failing step).
+  int max_subdivisions = 0;
 };
 
 struct Output {

@@ -164,6 +164,8 @@ class System {
   const std::vector<BeamInstance>& beams() const { return beams_; }
   const std::vector<ShellInstance>& shells() const { return shells_; }
   const std::string& node_name(int i) const { return node_names_[i]; }
+  // The coordinates of the given nodes, stacked (an element's q).
+  VecX stacked(const VecX& q, const std::vector<int>& nodes) const;
   // Stacked coordinates (24) of element e of beam b.
   VecX beam_element_q(const VecX& q, int b, int e) const;
   Vec3 material_point(const VecX& q, int node, const Vec3& X) const;
@@ -191,8 +193,6 @@ class System {
                                                       const std::string& what) const;
   SpMat internal_null_space(const VecX& q) const;  // P_int (n × 6N)
   void add_node(joints::NodeKind kind, const VecX& q0, const std::string& name, int beam);
-  // The coordinates of the given nodes, stacked (an element's q).
-  VecX stacked(const VecX& q, const std::vector<int>& nodes) const;
 
   std::vector<Node> nodes_;
   int internal_rows_ = 0, director_nodes_ = 0;
