@@ -289,7 +289,7 @@ TEST(ModelReader, UnknownKey) {
             "orientation, velocity, angular_velocity, shape)");
   EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
             "m.yaml:8: solver.tolerance: unknown key (valid keys: formulation, dt, t_end, "
-            "residual_tolerance, increment_tolerance, max_iterations)");
+            "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -829,7 +829,8 @@ TEST(ModelReader, BeamNodeReferenceErrors) {
   auto joint_to = [](std::string_view body_b) {
     return with_beam({"joints:", "  - type: fixed", "    body_b: " + std::string(body_b)});
   };
-  EXPECT_EQ(error_of(joint_to("crnk[3]")), "m.yaml:9: joints[0].body_b: no beam or shell named \"crnk\"");
+  EXPECT_EQ(error_of(joint_to("crnk[3]")),
+            "m.yaml:9: joints[0].body_b: no beam or shell named \"crnk\"");
   EXPECT_EQ(error_of(joint_to("crank[25]")),
             "m.yaml:9: joints[0].body_b: node index 25 out of range: beam \"crank\" has 21 nodes "
             "(0 … 20)");
