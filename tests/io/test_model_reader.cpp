@@ -289,7 +289,7 @@ TEST(ModelReader, UnknownKey) {
             "orientation, velocity, angular_velocity, shape)");
   EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
             "m.yaml:8: solver.tolerance: unknown key (valid keys: formulation, dt, t_end, "
-            "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions)");
+            "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions, linear)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "

@@ -59,6 +59,20 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
 StepStats StaticEquilibrium::step(State& s) const {
   const int n = sys_.n(), m = sys_.m_selected();
   const double t = s.t + settings_.dt;
+  if (settings_.linear) {
+    // Geometrically linear: one Newton correction from the unloaded reference (q₀, λ = 0), whose
+    // tangent is the small-displacement stiffness; the load enters linearly.
+    VecX x = VecX::Zero(n + m);
+    x.head(n) = sys_.q0();
+    SpMat J;
+    const VecX R = evaluate(t, x, &J);
+    x -= solve::solve(J, R);
+    s.q = x.head(n);
+    s.last_unknowns = x.tail(m);
+    s.t = t;
+    ++s.step;
+    return {1, evaluate(t, x, nullptr).lpNorm<Eigen::Infinity>(), 1};
+  }
   VecX x(n + m);
   x.head(n) = s.q;
   x.tail(m) = s.last_unknowns.size() == m ? s.last_unknowns : VecX::Zero(m);

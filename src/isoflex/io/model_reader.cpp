@@ -143,7 +143,7 @@ class Reader : YamlFields {
     expect_map(n, "solver");
     check_keys(n, "solver",
                {"formulation", "dt", "t_end", "residual_tolerance", "increment_tolerance",
-                "max_iterations", "max_subdivisions"});
+                "max_iterations", "max_subdivisions", "linear"});
     if (const auto v = n["formulation"]) {
       const std::string name = string(v, "solver.formulation");
       const auto f = model::formulation_from_string(name);
@@ -161,6 +161,7 @@ class Reader : YamlFields {
       s.increment_tolerance = positive(v, "solver.increment_tolerance");
     if (const auto v = n["max_iterations"])
       s.max_iterations = integer(v, "solver.max_iterations", 1);
+    if (const auto v = n["linear"]) s.linear = boolean(v, "solver.linear");
     if (const auto v = n["max_subdivisions"]) {
       s.max_subdivisions = integer(v, "solver.max_subdivisions", 0);
       if (s.max_subdivisions > 20) fail(v, "solver.max_subdivisions", "at most 20 (Δt/2²⁰)");

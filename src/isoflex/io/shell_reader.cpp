@@ -20,6 +20,36 @@ Vec3 bilinear(const std::array<Vec3, 4>& c, double s, double t, Vec3* xs, Vec3* 
   return (1 - s) * (1 - t) * c[0] + s * (1 - t) * c[1] + s * t * c[2] + (1 - s) * t * c[3];
 }
 
+// Parameters of n + 1 nodes at equal arc length along the iso-line through the middle of the other
+// direction (a rational parametrization, such as the exact circle, is not uniform in length).
+std::vector<double> equal_length_parameters(const geometry::NurbsSurface& g, bool along_u, int n) {
+  constexpr int kSamples = 2048;
+  const geometry::KnotVector& k = along_u ? g.u : g.v;
+  const geometry::KnotVector& o = along_u ? g.v : g.u;
+  const double mid = 0.5 * (o.front() + o.back());
+  std::vector<double> par(kSamples + 1), len(kSamples + 1, 0.0);
+  for (int i = 0; i <= kSamples; ++i) {
+    par[i] = k.front() + (k.back() - k.front()) * i / kSamples;
+    if (i == 0) continue;
+    // Midpoint rule for ∫ |x_ξ| dξ over the sample interval.
+    const double c = 0.5 * (par[i - 1] + par[i]);
+    const geometry::SurfacePoint x =
+        along_u ? geometry::evaluate(g, c, mid) : geometry::evaluate(g, mid, c);
+    len[i] = len[i - 1] + (along_u ? x.xu : x.xv).norm() * (par[i] - par[i - 1]);
+  }
+  std::vector<double> out(n + 1);
+  for (int j = 0; j <= n; ++j) {
+    const double target = len.back() * j / n;
+    const auto it = std::lower_bound(len.begin(), len.end(), target);
+    const int i = std::clamp(static_cast<int>(it - len.begin()), 1, kSamples);
+    const double w = len[i] > len[i - 1] ? (target - len[i - 1]) / (len[i] - len[i - 1]) : 0.0;
+    out[j] = par[i - 1] + w * (par[i] - par[i - 1]);
+  }
+  out.front() = k.front();
+  out.back() = k.back();
+  return out;
+}
+
 void grid_quads(model::Shell& s) {
   const int nu = s.grid_u + 1;
   for (int j = 0; j < s.grid_v; ++j)
@@ -100,8 +130,8 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
       }
     grid_quads(s);
   } else if (const auto surf = n["surface"]) {
-    // A structured mesh on a NURBS surface of `surfaces`: nodes at uniform parameters, directors
-    // along the exact normal x_ξ × x_η.
+    // A structured mesh on a NURBS surface of `surfaces`: nodes equally spaced in length along
+    // the middle iso-lines, directors along the exact normal x_ξ × x_η.
     const std::string key = join(p, "surface");
     const std::string want = string(surf, key);
     const auto it = std::find_if(surfaces.begin(), surfaces.end(),
@@ -109,10 +139,11 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
     if (it == surfaces.end()) fail(surf, key, "no surface named \"" + want + "\"");
     grid(require(n, p, "elements"), join(p, "elements"));
     const geometry::NurbsSurface& g = it->surface;
+    const std::vector<double> us = equal_length_parameters(g, true, s.grid_u);
+    const std::vector<double> vs = equal_length_parameters(g, false, s.grid_v);
     for (int j = 0; j <= s.grid_v; ++j)
       for (int i = 0; i <= s.grid_u; ++i) {
-        const double xi = g.u.front() + (g.u.back() - g.u.front()) * i / s.grid_u;
-        const double eta = g.v.front() + (g.v.back() - g.v.front()) * j / s.grid_v;
+        const double xi = us[i], eta = vs[j];
         const geometry::SurfacePoint x = geometry::evaluate(g, xi, eta);
         s.points.push_back(x.x);
         const Vec3 normal = x.xu.cross(x.xv);

@@ -262,6 +262,8 @@ struct Solver {
   // A time step whose Newton iteration fails is retried as two half steps, at most this many
   // halvings deep (0: never; the run stops at the failing step).
   int max_subdivisions = 0;
+  // Static solve only: small displacements (one Newton correction from q₀ per load step).
+  bool linear = false;
 };
 
 struct Output {

@@ -367,37 +367,67 @@ System System::compile(const model::Model& model) {
       fail(J.source, what + ".body_a", "a fixed support joins a body to the ground");
     edges.push_back({a, b});
   }
-  // Shell supports: a joint from the ground to each supported node (joints/director_joints.hpp).
+  // Shell supports: one joint from the ground per supported node (joints/director_joints.hpp).
+  // Entries naming the same node are merged (a corner on two symmetry planes): fixed components
+  // add up; two different symmetry normals leave the director no freedom but drilling.
   struct Support {
     std::string name;
     std::shared_ptr<const joints::Joint> joint;
     model::Source source;
   };
   std::vector<Support> supports;
-  for (std::size_t k = 0; k < model.shell_supports.size(); ++k) {
-    const auto& S = model.shell_supports[k];
-    const auto shell = std::find_if(s.shells_.begin(), s.shells_.end(),
-                                    [&](const ShellInstance& x) { return x.name == S.shell; });
-    const std::string what = fmt::format("shell_supports[{}]", k);
-    if (shell == s.shells_.end()) fail(S.source, what + ".shell", "no shell named " + S.shell);
-    joints::DirectorSupportSpec spec;
-    spec.fix_translation = S.fixed_translation;
-    spec.director = S.director == model::DirectorSupport::free ? joints::DirectorCondition::free
-                    : S.director == model::DirectorSupport::fixed
-                        ? joints::DirectorCondition::fixed
-                        : joints::DirectorCondition::about_axis;
-    spec.axis = S.axis;
-    for (int i : S.nodes) {
-      const int node = shell->nodes[i];
-      try {
-        supports.push_back({fmt::format("{}:{}", what, s.node_names_[node]),
-                            std::make_shared<joints::DirectorSupport>(
-                                dn::Q(s.q0_.segment<6>(s.q_offset(node))), spec),
-                            S.source});
-      } catch (const std::exception& e) {
-        fail(S.source, what, fmt::format("node {}: {}", i, e.what()));
+  {
+    using C = joints::DirectorCondition;
+    struct Pending {
+      int node;
+      joints::DirectorSupportSpec spec;
+      std::string what;
+      model::Source source;
+    };
+    std::vector<Pending> pending;
+    std::map<int, std::size_t> at;
+    for (std::size_t k = 0; k < model.shell_supports.size(); ++k) {
+      const auto& S = model.shell_supports[k];
+      const auto shell = std::find_if(s.shells_.begin(), s.shells_.end(),
+                                      [&](const ShellInstance& x) { return x.name == S.shell; });
+      const std::string what = fmt::format("shell_supports[{}]", k);
+      if (shell == s.shells_.end()) fail(S.source, what + ".shell", "no shell named " + S.shell);
+      joints::DirectorSupportSpec spec;
+      spec.fix_translation = S.fixed_translation;
+      spec.director = S.director == model::DirectorSupport::free    ? C::free
+                      : S.director == model::DirectorSupport::fixed ? C::fixed
+                                                                    : C::about_axis;
+      spec.axis = S.axis;
+      for (int i : S.nodes) {
+        const int node = shell->nodes[i];
+        const auto [it, fresh] = at.emplace(node, pending.size());
+        if (fresh) {
+          pending.push_back({node, spec, what, S.source});
+          continue;
+        }
+        joints::DirectorSupportSpec& m = pending[it->second].spec;
+        for (int c = 0; c < 3; ++c)
+          m.fix_translation[c] = m.fix_translation[c] || spec.fix_translation[c];
+        if (spec.director == C::fixed || m.director == C::fixed) {
+          m.director = C::fixed;
+        } else if (spec.director == C::about_axis) {
+          if (m.director == C::free)
+            m = {m.fix_translation, C::about_axis, spec.axis};
+          else if (std::abs(std::abs(m.axis.normalized().dot(spec.axis.normalized())) - 1) > 1e-12)
+            m.director = C::fixed;
+        }
       }
-      edges.push_back({-1, node});
+    }
+    for (const Pending& p : pending) {
+      try {
+        supports.push_back({fmt::format("{}:{}", p.what, s.node_names_[p.node]),
+                            std::make_shared<joints::DirectorSupport>(
+                                dn::Q(s.q0_.segment<6>(s.q_offset(p.node))), p.spec),
+                            p.source});
+      } catch (const std::exception& e) {
+        fail(p.source, p.what, fmt::format("node {}: {}", s.node_names_[p.node], e.what()));
+      }
+      edges.push_back({-1, p.node});
     }
   }
   const std::size_t n_model_joints = model.joints.size();
