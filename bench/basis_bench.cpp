@@ -1,17 +1,22 @@
-// Basis-evaluation benchmark (see bench/basis.md): throughput of
-// geometry::surface_basis — all (p+1)(q+1) non-zero rational basis functions R with their first
-// and second derivatives at one point, IGA-thesis (4.3), (4.12) — for p = q = 2 … 5, against a
-// naive recursive Cox–de Boor evaluation written here, and against the machine's scalar
-// floating-point peak measured by a loop of independent multiply–adds.
+// Basis-evaluation benchmark (see bench/basis.md): throughput of the rational basis — all
+// (p+1)(q+1) non-zero functions R with their first and second derivatives at a point,
+// IGA-thesis (4.3), (4.12) — for p = q = 2 … 5 on a rational surface of 8 × 8 elements:
+//   element_basis/p           geometry::element_basis, all (p+1)² Gauss points of an element at
+//                             once, element after element (the element loop of assembly);
+//   surface_basis_gauss/p     geometry::surface_basis at the same points, one at a time;
+//   naive_cox_de_boor_gauss/p the naive recursive Cox–de Boor reference (below) at those points;
+//   surface_basis/p, naive_cox_de_boor/p   the same two at 4096 random points;
+// against the machine's scalar floating-point peak measured by a loop of independent
+// multiply–adds.
 //
 //   basis_bench [Google Benchmark flags, e.g. --benchmark_filter=p=3]
 //
 // Each benchmark runs kRepetitions short repetitions; Google Benchmark prints their mean, median,
 // stddev and cv (points/s as items_per_second, flop/pt the count of the algorithm derived in
-// flops_per_point below); a summary table at the end gives, per p, the fastest repetition as
-// points/s, ns/pt, flop/pt, achieved GFlop/s, vs_peak = time per point / (flop/pt ÷ peak) — how
-// many times longer than the flop count takes at the measured scalar peak — and the naive/kernel
-// time ratio.
+// flops_per_point and flops_per_element below); summary tables at the end give, per p, the
+// fastest and the median repetition in ns per point, points/s, flop/pt, achieved GFlop/s,
+// vs_peak = time per point / (flop/pt ÷ peak) — how many times longer than the flop count takes
+// at the measured scalar peak — and the naive/kernel time ratio.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
@@ -24,13 +29,16 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/geometry/element_basis.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/geometry/quadrature.hpp"
 
 namespace {
 
 using isoflex::Vec3;
 using isoflex::geometry::KnotVector;
 using isoflex::geometry::NurbsSurface;
+using isoflex::geometry::SurfaceElement;
 
 constexpr int kSpans = 8;      // spans per direction of the benchmark surface
 constexpr int kPoints = 4096;  // evaluation points per benchmark iteration
@@ -83,6 +91,33 @@ double flops_1d(int p) {
 double flops_per_point(int p, int q) {
   return flops_1d(p) + flops_1d(q) + (q + 1) * (6.0 * p + 15.0) + 14.0 + 6.0 * (p + 1) +
          9.0 * (q + 1) + 11.0 * (p + 1) * (q + 1);
+}
+
+// Floating-point operations of geometry::element_basis (element_basis.cpp) for one element with
+// an n_u × n_v grid of points, counted like flops_per_point (scalar operations, each +, −, ×, ÷
+// one flop, useful SSE2 lanes only), for p, q ≥ 2 (docs/theory/nurbs-tools.md §5):
+//   per element: the Gauss points ξ = m + h ζ: 8 + 2(n_u + n_v); the reciprocals of the two
+//     triangles, a difference and a division each: p(p+1) + q(q+1)
+//   per ξ_i (and per η_j with q): the triangle without the reciprocals, u − ξ, ξ − u, N', N'':
+//     f₁(p) − p(p+1) = 2p² + 9p − 3
+//   per (ξ_i, row b): Σ_a w (N, N', N''): 3(2p + 1)
+//   per point: W and its 5 derivatives Σ_b M^(l)_b c_b: 12(q+1) − 6 (the first term is not an
+//     addition); 1/W, ω, 2ω, 2ω² − ω_··, ω_ξω_η − ω_ξη: 14; Ñ', Ñ'' per a: 6(p+1); (M, M̃', M̃'')/W
+//     per b: 9(q+1); per function 11 (as in flops_per_point)
+double flops_per_element(int p, int q, int nu, int nv) {
+  const double tri_u = 2.0 * p * p + 9.0 * p - 3.0, tri_v = 2.0 * q * q + 9.0 * q - 3.0;
+  const double per_point =
+      12.0 * (q + 1) - 6.0 + 14.0 + 6.0 * (p + 1) + 9.0 * (q + 1) + 11.0 * (p + 1) * (q + 1);
+  return 8.0 + 2.0 * (nu + nv) + p * (p + 1.0) + q * (q + 1.0) + nu * tri_u + nv * tri_v +
+         nu * (q + 1) * 3.0 * (2.0 * p + 1.0) + nu * nv * per_point;
+}
+// The benchmark grid: the default (p+1) × (q+1) Gauss points of every element.
+int gauss_points(int p) {
+  return p + 1;
+}
+double flops_per_point_element(int p) {
+  const int n = gauss_points(p);
+  return flops_per_element(p, p, n, n) / (n * n);
 }
 
 // ---- Naive reference: Cox–de Boor recursion (4.3) per function, derivatives by recursion ----
@@ -194,17 +229,41 @@ __attribute__((target("fma"))) double fma_loop(long n) {
   return a0 + a1 + a2 + a3 + a4 + a5 + a6 + a7 + a8 + a9 + a10 + a11;
 }
 
+// For reference only (vs_packed in the summary): the same 12 chains on SSE2 pairs (mulpd +
+// addpd, what the build flags allow), both lanes useful — twice the scalar work per instruction.
+using V2 [[gnu::vector_size(16)]] = double;
+inline void pin(V2& x) {
+  asm volatile("" : "+x"(x));
+}
+double packed_loop(long n) {
+  V2 a0 = {1, 1.01}, a1 = {1.1, 1.11}, a2 = {1.2, 1.21}, a3 = {1.3, 1.31}, a4 = {1.4, 1.41};
+  V2 a5 = {1.5, 1.51}, a6 = {1.6, 1.61}, a7 = {1.7, 1.71}, a8 = {1.8, 1.81}, a9 = {1.9, 1.91};
+  V2 a10 = {2.0, 2.01}, a11 = {2.1, 2.11};
+  V2 m = {0.999999999, 0.999999999}, c = {1e-9, 1e-9};
+  pin(m);
+  pin(c);
+  for (long i = 0; i < n; ++i) {
+    a0 = a0 * m + c, a1 = a1 * m + c, a2 = a2 * m + c, a3 = a3 * m + c;
+    a4 = a4 * m + c, a5 = a5 * m + c, a6 = a6 * m + c, a7 = a7 * m + c;
+    a8 = a8 * m + c, a9 = a9 * m + c, a10 = a10 * m + c, a11 = a11 * m + c;
+    pin(a0), pin(a1), pin(a2), pin(a3), pin(a4), pin(a5);
+    pin(a6), pin(a7), pin(a8), pin(a9), pin(a10), pin(a11);
+  }
+  const V2 sum = a0 + a1 + a2 + a3 + a4 + a5 + a6 + a7 + a8 + a9 + a10 + a11;
+  return sum[0] + sum[1];
+}
+
 constexpr double kFlopsPerLoopIteration = 24.0;  // 12 × (multiply + add)
 
 // Best of 5 timed runs of ≈ 0.1 s each, in flop/s.
-double measure_peak(double (*loop)(long)) {
+double measure_peak(double (*loop)(long), double flops_per_iteration = kFlopsPerLoopIteration) {
   const long n = 25'000'000;
   double best = 0.0;
   for (int rep = 0; rep < 5; ++rep) {
     const auto t0 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(loop(n));
     const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    best = std::max(best, kFlopsPerLoopIteration * n / dt);
+    best = std::max(best, flops_per_iteration * n / dt);
   }
   return best;
 }
@@ -243,8 +302,68 @@ void bm_naive(benchmark::State& state, int p) {
   set_counters(state, p);
 }
 
-// Check once that the naive reference and the kernel agree, so the comparison is fair.
+// ---- The element loop: the (p+1) × (p+1) Gauss points of every element of the surface ----
+
+// The Gauss points of all elements, element by element, in element_quadrature's order.
+std::vector<std::pair<double, double>> gauss_grid_points(const NurbsSurface& s) {
+  const auto rule = isoflex::geometry::gauss_legendre(gauss_points(s.degree_u()));
+  std::vector<std::pair<double, double>> pts;
+  for (const auto& e : isoflex::geometry::surface_elements(s))
+    for (const auto& qp : isoflex::geometry::element_quadrature(e, rule, rule))
+      pts.emplace_back(qp.xi, qp.eta);
+  return pts;
+}
+
+// element_basis on every element: all functions with first and second derivatives at all Gauss
+// points of the element, into one ElementBasis reused from element to element.
+void bm_element(benchmark::State& state, int p) {
+  const NurbsSurface s = bench_surface(p);
+  const auto elements = isoflex::geometry::surface_elements(s);
+  const auto rule = isoflex::geometry::gauss_legendre(gauss_points(p));
+  isoflex::geometry::ElementBasis E;
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (const SurfaceElement& e : elements) {
+      isoflex::geometry::element_basis(s, e, rule, rule, E);
+      sink += E.values.front() + E.values.back();
+    }
+    benchmark::DoNotOptimize(sink);
+  }
+  const int n = gauss_points(p);
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(elements.size()) * n * n);
+  state.counters["flop/pt"] = flops_per_point_element(p);
+}
+
+// The same points one at a time, with surface_basis or the naive reference.
+template <bool naive>
+void bm_at_gauss_points(benchmark::State& state, int p) {
+  const NurbsSurface s = bench_surface(p);
+  const auto pts = gauss_grid_points(s);
+  std::vector<double> R;
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (const auto& [xi, eta] : pts) {
+      if constexpr (naive) {
+        naive_surface_basis(s, xi, eta, R);
+        sink += R[0] + R.back();
+      } else {
+        const auto b = isoflex::geometry::surface_basis(s, xi, eta);
+        sink += b.R(0, 0) + b.R(5, b.R.cols() - 1);
+      }
+    }
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(pts.size()));
+  state.counters["flop/pt"] = naive ? 0.0 : flops_per_point(p, p);
+}
+
+// Check once that the naive reference and the kernels agree, so the comparison is fair: the
+// point kernel at the random points, and element_basis at the Gauss points against both the
+// naive reference and surface_basis.
 bool naive_matches_kernel() {
+  const auto close = [](double x, double ref) {
+    return std::abs(x - ref) <= 1e-8 * (1.0 + std::abs(ref));
+  };
   for (int p = 2; p <= 5; ++p) {
     const NurbsSurface s = bench_surface(p);
     std::vector<double> R;
@@ -253,8 +372,23 @@ bool naive_matches_kernel() {
       const auto b = isoflex::geometry::surface_basis(s, xi, eta);
       for (int k = 0; k < b.R.cols(); ++k)
         for (int d = 0; d < 6; ++d)
-          if (std::abs(b.R(d, k) - R[6 * k + d]) > 1e-8 * (1.0 + std::abs(R[6 * k + d])))
-            return false;
+          if (!close(b.R(d, k), R[6 * k + d])) return false;
+    }
+    const auto rule = isoflex::geometry::gauss_legendre(gauss_points(p));
+    isoflex::geometry::ElementBasis E;
+    for (const SurfaceElement& e : isoflex::geometry::surface_elements(s)) {
+      isoflex::geometry::element_basis(s, e, rule, rule, E);
+      for (int g = 0; g < E.n_points(); ++g) {
+        const double xi = E.xi[g % E.n_u], eta = E.eta[g / E.n_u];
+        naive_surface_basis(s, xi, eta, R);
+        const auto b = isoflex::geometry::surface_basis(s, xi, eta);
+        const auto Rg = E.R(g);
+        for (int k = 0; k < E.n_functions; ++k)
+          for (int d = 0; d < 6; ++d)
+            if (!close(Rg(d, k), R[6 * k + d]) ||
+                std::abs(Rg(d, k) - b.R(d, k)) > 1e-13 * (1.0 + std::abs(b.R(d, k))))
+              return false;
+      }
     }
   }
   return true;
@@ -267,16 +401,21 @@ double measure_scalar_peak(double* muladd, double* fma) {
   return std::max(*muladd, *fma);
 }
 
-// Console output plus, at the end, the summary table: per p the fastest repetition of the
-// kernel and of the naive reference (seconds per point), the flop count, the achieved flop rate,
-// vs_peak = t_kernel / (flop/pt ÷ peak) and naive/kernel. The peak is measured again after the
-// runs and the larger value used: on a shared machine a slice of lost time lowers a measured
-// peak as it lowers a measured kernel rate, and the best of both is the closest to the machine.
+// Points per benchmark iteration, by benchmark name.
+std::map<std::string, double> points_per_iteration;
+
+// Console output plus, at the end, the summary tables: per p and benchmark the fastest and the
+// median of the repetitions (seconds per point), the flop count, the achieved flop rate,
+// vs_peak = t / (flop/pt ÷ peak) and the naive/kernel ratio (of the medians). The peak is
+// measured again after the runs and the larger value used: on a shared machine a slice of lost
+// time lowers a measured peak as it lowers a measured kernel rate, and the best of both is the
+// closest to the machine.
 class Reporter : public benchmark::ConsoleReporter {
  public:
-  explicit Reporter(double peak, OutputOptions options) : ConsoleReporter(options), peak_(peak) {}
+  explicit Reporter(double peak, double packed, OutputOptions options)
+      : ConsoleReporter(options), peak_(peak), packed_(packed) {}
   // Prints only the aggregates (mean, median, stddev, cv over the repetitions) and keeps the
-  // fastest repetition of each benchmark.
+  // time of every repetition.
   void ReportRuns(const std::vector<Run>& runs) override {
     std::vector<Run> aggregates;
     for (const auto& r : runs)
@@ -284,38 +423,84 @@ class Reporter : public benchmark::ConsoleReporter {
     if (!aggregates.empty()) ConsoleReporter::ReportRuns(aggregates);
     for (const auto& r : runs) {
       if (r.run_type != Run::RT_Iteration || r.iterations == 0) continue;
-      const double t = r.real_accumulated_time / static_cast<double>(r.iterations) / kPoints;
-      auto [it, fresh] = best_.try_emplace(r.run_name.function_name, t);
-      if (!fresh) it->second = std::min(it->second, t);
+      const std::string name = r.run_name.function_name;
+      times_[name].push_back(r.real_accumulated_time / static_cast<double>(r.iterations) /
+                             points_per_iteration.at(name));
     }
   }
   void Finalize() override {
     ConsoleReporter::Finalize();
     double muladd, fma;
     const double again = measure_scalar_peak(&muladd, &fma);
-    std::printf("\nscalar peak after the runs: mul+add %.2f GFlop/s, fused FMA %.2f GFlop/s\n",
-                muladd * 1e-9, fma * 1e-9);
+    packed_ = std::max(packed_, measure_peak(packed_loop, 2 * kFlopsPerLoopIteration));
+    std::printf(
+        "\nscalar peak after the runs: mul+add %.2f GFlop/s, fused FMA %.2f GFlop/s"
+        " (SSE2 mulpd+addpd: %.2f GFlop/s)\n",
+        muladd * 1e-9, fma * 1e-9, packed_ * 1e-9);
     peak_ = std::max(peak_, again);
     std::printf(
-        "\nsummary (fastest of %d repetitions; peak %.2f GFlop/s)\n"
-        "  p  kernel_pts/s  kernel_ns/pt  flop/pt  GFlop/s  vs_peak  naive_ns/pt  naive/kernel\n",
-        kRepetitions, peak_ * 1e-9);
+        "\nsummary (%d repetitions each: fastest / median; scalar peak %.2f GFlop/s, SSE2 pairs"
+        " %.2f)\n",
+        kRepetitions, peak_ * 1e-9, packed_ * 1e-9);
+    std::printf(
+        "\nelement_basis: all (p+1)^2 Gauss points of an element at once, %d x %d elements\n"
+        "  p   ns/pt fast/median   pts/s(med)  flop/pt  GFlop/s(med)  vs_peak fast/median"
+        "  vs_sse2(med)  point_api_ns  naive_ns  naive/kernel\n",
+        kSpans, kSpans);
     for (int p = 2; p <= 5; ++p) {
-      const auto k = best_.find("surface_basis/p=" + std::to_string(p));
-      const auto n = best_.find("naive_cox_de_boor/p=" + std::to_string(p));
-      if (k == best_.end()) continue;
-      const double f = flops_per_point(p, p), t = k->second;
-      std::printf("  %d  %12.3e  %12.1f  %7.0f  %7.2f  %7.2f", p, 1.0 / t, t * 1e9, f, f / t * 1e-9,
-                  t / (f / peak_));
-      if (n != best_.end()) std::printf("  %11.1f  %12.1f", n->second * 1e9, n->second / t);
-      std::printf("\n");
+      const std::string P = "/p=" + std::to_string(p);
+      const Stats k = stats("element_basis" + P), pt = stats("surface_basis_gauss" + P),
+                  n = stats("naive_cox_de_boor_gauss" + P);
+      if (k.median == 0.0) continue;
+      const double f = flops_per_point_element(p);
+      std::printf(
+          "  %d  %7.1f / %7.1f  %11.3e  %7.1f  %12.2f  %8.2f / %6.2f  %12.2f  %12.1f  %8.1f  %12.1f"
+          "\n",
+          p, k.fastest * 1e9, k.median * 1e9, 1.0 / k.median, f, f / k.median * 1e-9,
+          k.fastest / (f / peak_), k.median / (f / peak_), k.median / (f / packed_),
+          pt.median * 1e9, n.median * 1e9, n.median / k.median);
+    }
+    std::printf(
+        "\nsurface_basis: one point at a time, %d random points\n"
+        "  p   ns/pt fast/median   pts/s(med)  flop/pt  GFlop/s(med)  vs_peak fast/median"
+        "  naive_ns  naive/kernel\n",
+        kPoints);
+    for (int p = 2; p <= 5; ++p) {
+      const std::string P = "/p=" + std::to_string(p);
+      const Stats k = stats("surface_basis" + P), n = stats("naive_cox_de_boor" + P);
+      if (k.median == 0.0) continue;
+      const double f = flops_per_point(p, p);
+      std::printf("  %d  %7.1f / %7.1f  %11.3e  %7.0f  %12.2f  %8.2f / %6.2f  %8.1f  %12.1f\n", p,
+                  k.fastest * 1e9, k.median * 1e9, 1.0 / k.median, f, f / k.median * 1e-9,
+                  k.fastest / (f / peak_), k.median / (f / peak_), n.median * 1e9,
+                  n.median / k.median);
     }
   }
 
  private:
-  double peak_;
-  std::map<std::string, double> best_;  // seconds per point
+  struct Stats {
+    double fastest = 0.0, median = 0.0;  // seconds per point; 0 if the benchmark did not run
+  };
+  Stats stats(const std::string& name) const {
+    const auto it = times_.find(name);
+    if (it == times_.end() || it->second.empty()) return {};
+    std::vector<double> t = it->second;
+    std::sort(t.begin(), t.end());
+    const std::size_t m = t.size() / 2;
+    return {t.front(), t.size() % 2 == 1 ? t[m] : 0.5 * (t[m - 1] + t[m])};
+  }
+  double peak_, packed_;
+  std::map<std::string, std::vector<double>> times_;  // seconds per point, per repetition
 };
+
+template <class F>
+void add(const std::string& name, F f, int p, double points) {
+  points_per_iteration[name] = points;
+  benchmark::RegisterBenchmark(name.c_str(), f, p)
+      ->Unit(benchmark::kMicrosecond)
+      ->MinTime(kMinTime)
+      ->Repetitions(kRepetitions);
+}
 
 }  // namespace
 
@@ -323,29 +508,32 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!naive_matches_kernel()) {
-    std::fprintf(stderr, "naive reference and surface_basis disagree\n");
+    std::fprintf(stderr, "naive reference, surface_basis and element_basis disagree\n");
     return 1;
   }
   double peak_muladd, peak_fma;
   const double peak = measure_scalar_peak(&peak_muladd, &peak_fma);
+  const double packed = measure_peak(packed_loop, 2 * kFlopsPerLoopIteration);
   std::printf(
       "scalar peak: mul+add %.2f GFlop/s, fused FMA %s%.2f GFlop/s; vs_peak uses the larger"
-      " (and the larger of this and the peak measured after the runs)\n",
-      peak_muladd * 1e-9, __builtin_cpu_supports("fma") ? "" : "(no FMA) ", peak_fma * 1e-9);
+      " (and the larger of this and the peak measured after the runs); SSE2 mulpd+addpd"
+      " %.2f GFlop/s\n",
+      peak_muladd * 1e-9, __builtin_cpu_supports("fma") ? "" : "(no FMA) ", peak_fma * 1e-9,
+      packed * 1e-9);
   std::fflush(stdout);  // before Google Benchmark's own output
   for (int p = 2; p <= 5; ++p) {
-    benchmark::RegisterBenchmark(("surface_basis/p=" + std::to_string(p)).c_str(), bm_kernel, p)
-        ->Unit(benchmark::kMicrosecond)
-        ->MinTime(kMinTime)
-        ->Repetitions(kRepetitions);
-    benchmark::RegisterBenchmark(("naive_cox_de_boor/p=" + std::to_string(p)).c_str(), bm_naive, p)
-        ->Unit(benchmark::kMicrosecond)
-        ->MinTime(kMinTime)
-        ->Repetitions(kRepetitions);
+    const std::string P = "/p=" + std::to_string(p);
+    const double gauss = kSpans * kSpans * gauss_points(p) * gauss_points(p);
+    add("element_basis" + P, bm_element, p, gauss);
+    add("surface_basis_gauss" + P, bm_at_gauss_points<false>, p, gauss);
+    add("naive_cox_de_boor_gauss" + P, bm_at_gauss_points<true>, p, gauss);
+    add("surface_basis" + P, bm_kernel, p, kPoints);
+    add("naive_cox_de_boor" + P, bm_naive, p, kPoints);
   }
   // Colour only on a terminal (a custom display reporter does not see --benchmark_color).
-  Reporter reporter(peak, isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_ColorTabular
-                                                 : benchmark::ConsoleReporter::OO_Tabular);
+  Reporter reporter(peak, packed,
+                    isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_ColorTabular
+                                           : benchmark::ConsoleReporter::OO_Tabular);
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
   return 0;

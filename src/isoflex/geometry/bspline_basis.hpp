@@ -29,4 +29,13 @@ Basis1D bspline_basis(const KnotVector& kv, double u, int n_derivatives = 2);
 using BasisArray = double[3][kMaxDegree + 1];
 void bspline_basis_unchecked(const KnotVector& kv, int span, double u, BasisArray& d);
 
+// The same for n parameters u[0..n) of one span (element_basis): the knot-difference reciprocals
+// are computed once for all of them. d[(3i + k)·stride + j] = d^k N_{span−p+j}/du^k at u[i]
+// (stride ≥ p + 1; entries j > p are not written), bit for bit what bspline_basis_unchecked
+// writes for u[i]. No checks: span must be a non-empty span (knots[span] < knots[span+1],
+// p ≤ span < n_basis) and every u[i] must lie in [knots[span], knots[span+1]] (at its ends: the
+// one-sided values of this span's polynomials).
+void bspline_basis_span_unchecked(const KnotVector& kv, int span, const double* u, int n, double* d,
+                                  int stride);
+
 }  // namespace isoflex::geometry
