@@ -1,7 +1,10 @@
 // Output writers (VTK series, CSV histories, summary JSON) and the progress display, fed with a
 // hand-made model and fake snapshots.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +18,7 @@
 
 #include "isoflex/app/progress.hpp"
 #include "isoflex/io/history_writer.hpp"
+#include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
 #include "isoflex/io/vtk_writer.hpp"
 #include "isoflex/math/rotation.hpp"
@@ -24,7 +28,9 @@
 namespace fs = std::filesystem;
 using namespace isoflex;
 using test::data_array;
+using test::data_array_names;
 using test::read_text;
+using test::xml_error;
 
 namespace {
 
@@ -121,6 +127,9 @@ struct Vtu {
   long n_points, n_cells;
   std::vector<Vec3> points, velocity;
   std::vector<long> connectivity, offsets, types, body_id, part;
+  // Only with shell elements:
+  std::vector<Vec3> displacement, director;
+  std::vector<long> shell_id;
 };
 
 std::vector<long> as_long(const std::vector<double>& v) {
@@ -145,6 +154,9 @@ Vtu read_vtu(const fs::path& p) {
   v.types = as_long(data_array(xml, "types"));
   v.body_id = as_long(data_array(xml, "body_id"));
   v.part = as_long(data_array(xml, "part"));
+  v.displacement = as_vec3(data_array(xml, "displacement"));
+  v.director = as_vec3(data_array(xml, "director"));
+  v.shell_id = as_long(data_array(xml, "shell_id"));
   return v;
 }
 
@@ -156,6 +168,11 @@ void expect_consistent(const Vtu& v) {
   EXPECT_EQ(static_cast<long>(v.types.size()), v.n_cells);
   EXPECT_EQ(static_cast<long>(v.body_id.size()), v.n_cells);
   EXPECT_EQ(static_cast<long>(v.part.size()), v.n_cells);
+  if (!v.shell_id.empty()) {
+    EXPECT_EQ(static_cast<long>(v.shell_id.size()), v.n_cells);
+    EXPECT_EQ(static_cast<long>(v.displacement.size()), v.n_points);
+    EXPECT_EQ(static_cast<long>(v.director.size()), v.n_points);
+  }
   ASSERT_FALSE(v.offsets.empty());
   EXPECT_EQ(v.offsets.back(), static_cast<long>(v.connectivity.size()));
   long begin = 0;
@@ -177,6 +194,9 @@ void expect_consistent(const Vtu& v) {
       case 7:
         EXPECT_GE(n, 3);
         break;  // polygon
+      case 12:
+        EXPECT_EQ(n, 8);
+        break;  // hexahedron
       default:
         ADD_FAILURE() << "unexpected cell type " << v.types[c];
     }
@@ -192,6 +212,98 @@ void expect_consistent(const Vtu& v) {
 // triangles, plus 3 director lines each.
 constexpr long kBoxPoints = 8 + 4, kBoxCells = 6 + 3, kBoxConn = 6 * 4 + 3 * 2;
 constexpr long kPyrPoints = 5 + 4, kPyrCells = 5 + 3, kPyrConn = 4 + 4 * 3 + 3 * 2;
+
+// ---- shells: the two-body model plus a beam element and three shells ----
+
+// Shells in the order q, p and one named with XML's special characters (no elements), so that
+// shell_id follows the model, not the order of the snapshot's elements.
+const char* const kOddShellName = "a<&>\"b";
+
+model::Model shell_model() {
+  auto m = two_body_model();
+  model::Beam rod;
+  rod.name = "rod";
+  rod.points = {Vec3(0, 0, -1), Vec3(1, 0, -1)};
+  rod.draw_width = 0.1;
+  rod.draw_height = 0.05;
+  m.beams = {rod};
+  for (const char* name : {"q", "p", kOddShellName}) {
+    model::Shell sh;
+    sh.name = name;
+    m.shells.push_back(sh);
+  }
+  return m;
+}
+
+// Node indices of shell_snapshot: bodies 0, 1; beam nodes 2, 3; shell p (2 × 1 elements) nodes
+// 4 … 9 = 4 + i + 3j on a grid i = 0…2, j = 0…1; shell q (one element) nodes 10 … 13.
+constexpr int kFirstShellNode = 4, kShellNodes = 10;
+
+// Stress resultants of the shell elements: distinct per element and step, and exact in 15
+// significant digits, so that the written values compare exactly.
+integrate::ShellElementValue shell_element(const char* shell, int element, std::array<int, 4> nodes,
+                                           int step) {
+  integrate::ShellElementValue e;
+  e.shell = shell;
+  e.element = element;
+  e.nodes = nodes;
+  const double f = (1 + step) * (element + 1) * (shell[0] == 'q' ? -1.0 : 1.0);
+  e.n << 1.5 * f, 0.25 * f, 0.25 * f, -2.0 * f;
+  e.m << 0.5 * f, -0.125 * f, -0.125 * f, 0.75 * f;
+  e.q << 3.0 * f, -4.0 * f;
+  return e;
+}
+
+integrate::Snapshot shell_snapshot(int step, double t) {
+  integrate::Snapshot s = snapshot(step, t);
+  Mat3 along_x;  // beam triad along +x: d₁ = y, d₂ = z, d₃ = x
+  along_x << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  for (const double x : {0.0, 1.0}) {
+    integrate::BodyPose b;
+    b.position = Vec3(x, 0, -1);
+    b.directors = along_x;
+    s.bodies.push_back(b);
+  }
+  s.beam_elements = {{"rod", 0, 2, 3, Vec3(1, 2, 3), Vec3(-0.5, 0.25, 4)}};
+  for (int j = 0; j <= 1; ++j) {  // p: bent up along x, its directors turning about −y
+    for (int i = 0; i <= 2; ++i) {
+      integrate::BodyPose b;
+      b.position = Vec3(0.5 * i, 0.4 * j, t * (0.1 * i + 0.2 * j));
+      b.directors = rotation(Vec3(0, 1, 0), -0.2 * t * i);
+      b.velocity = Vec3(0, 0, 0.1 * i + 0.2 * j);
+      s.bodies.push_back(b);
+    }
+  }
+  for (const auto& X : {Vec3(2, 0, 0), Vec3(2, 0.5, 0), Vec3(2, 0.5, 0.5), Vec3(2, 0, 0.5)}) {
+    integrate::BodyPose b;  // q: in the plane x = 2 + 0.3 t, director +x
+    b.position = X + Vec3(0.3 * t, 0, 0);
+    b.directors = rotation(Vec3(0, 1, 0), std::numbers::pi / 2);
+    b.velocity = Vec3(0.3, 0, 0);
+    s.bodies.push_back(b);
+  }
+  s.shell_elements = {shell_element("p", 0, {4, 5, 8, 7}, step),
+                      shell_element("p", 1, {5, 6, 9, 8}, step),
+                      shell_element("q", 0, {10, 11, 12, 13}, step)};
+  return s;
+}
+
+// What the scalar shell arrays hold for an element (names as written).
+double shell_value(const integrate::ShellElementValue& e, const std::string& name) {
+  if (name == "n11") return e.n(0, 0);
+  if (name == "n22") return e.n(1, 1);
+  if (name == "n12") return e.n(0, 1);
+  if (name == "m11") return e.m(0, 0);
+  if (name == "m22") return e.m(1, 1);
+  if (name == "m12") return e.m(0, 1);
+  if (name == "q1") return e.q(0);
+  if (name == "q2") return e.q(1);
+  const Eigen::Matrix2d& a = name == "n_vm" ? e.n : e.m;  // the formula of shell_mesh.hpp
+  return std::sqrt(a(0, 0) * a(0, 0) + a(1, 1) * a(1, 1) - a(0, 0) * a(1, 1) +
+                   3 * a(0, 1) * a(0, 1));
+}
+
+const char* const kShellScalars[] = {"n11", "n22", "n12", "m11",  "m22",
+                                     "m12", "q1",  "q2",  "n_vm", "m_vm"};
 
 double min_distance(const std::vector<Vec3>& points, const Vec3& x, std::size_t* index = nullptr) {
   double best = std::numeric_limits<double>::infinity();
@@ -453,6 +565,442 @@ TEST(VtkWriter, ZeroEveryWritesNothing) {
   w.on_finish();
   EXPECT_TRUE(w.files().empty());
   EXPECT_FALSE(fs::exists(dir.path() / "results.pvd"));
+}
+
+// ---------------------------------------------------------------- shells in the VTK series
+
+// Shell elements become VTK_QUADs after the cells of the bodies and beams, over points shared by
+// neighbouring elements in node order, with resultants, von Mises magnitudes and shell ids as
+// cell data and the director and displacement as point data; a shell name that needs escaping
+// keeps the file well-formed.
+TEST(VtkWriter, ShellQuadsPointsAndCellData) {
+  TempDir dir;
+  const auto model = shell_model();
+  const auto s0 = shell_snapshot(0, 0.0), s1 = shell_snapshot(1, 0.5);
+  {
+    io::VtkSeriesWriter w(dir.path(), model, 1);
+    w.on_snapshot(s0);
+    w.on_snapshot(s1);
+    w.on_finish();
+  }
+  // Bodies, then the beam's hexahedron (8 points, one cell), then the shells.
+  constexpr long kOtherPoints = kBoxPoints + kPyrPoints + 8;
+  constexpr long kOtherCells = kBoxCells + kPyrCells + 1;
+  static_assert(kOtherPoints == 29 && kOtherCells == 18);
+  for (const auto* s : {&s0, &s1}) {
+    SCOPED_TRACE(s->step);
+    const fs::path file = dir.path() / ("vtk/step_00000" + std::to_string(s->step) + ".vtu");
+    const std::string xml = read_text(file);
+    EXPECT_EQ(xml_error(xml), "");
+    const Vtu v = read_vtu(file);
+    EXPECT_EQ(v.n_points, kOtherPoints + kShellNodes);
+    EXPECT_EQ(v.n_cells, kOtherCells + 3);
+    expect_consistent(v);
+    ASSERT_EQ(static_cast<long>(v.types.size()), v.n_cells);
+    ASSERT_EQ(static_cast<long>(v.points.size()), v.n_points);
+    auto tail = [](const std::vector<long>& a, std::size_t n) {
+      return std::vector<long>(a.end() - static_cast<long>(n), a.end());
+    };
+    EXPECT_EQ(tail(v.types, 4), (std::vector<long>{12, 9, 9, 9}));
+    EXPECT_EQ(tail(v.part, 4), (std::vector<long>{4, 5, 5, 5}));
+    EXPECT_EQ(tail(v.body_id, 4), (std::vector<long>{-1, -1, -1, -1}));
+    EXPECT_EQ(tail(v.offsets, 4).back(), static_cast<long>(v.connectivity.size()));
+    // Shell node k is point 29 + k − 4; the quads keep the elements' (counter-clockwise) order.
+    EXPECT_EQ(tail(v.connectivity, 12),
+              (std::vector<long>{29, 30, 33, 32, 30, 31, 34, 33, 35, 36, 37, 38}));
+    std::vector<long> ids(kOtherCells, -1);
+    ids.insert(ids.end(), {1, 1, 0});  // p is model.shells[1], q is model.shells[0]
+    EXPECT_EQ(v.shell_id, ids);
+    // Points, velocities and directors of the shell nodes; 0 director on the other points.
+    for (int k = 0; k < kShellNodes; ++k) {
+      const auto& pose = s->bodies[kFirstShellNode + k];
+      EXPECT_LT((v.points[kOtherPoints + k] - pose.position).norm(), 1e-14) << k;
+      EXPECT_LT((v.velocity[kOtherPoints + k] - pose.velocity).norm(), 1e-14) << k;
+      EXPECT_LT((v.director[kOtherPoints + k] - pose.directors.col(2)).norm(), 1e-14) << k;
+    }
+    for (long i = 0; i < kOtherPoints; ++i) {
+      EXPECT_EQ(v.director[i], Vec3::Zero()) << i;
+      EXPECT_EQ(v.displacement[i], Vec3::Zero()) << i;
+    }
+    // Displacement from the first snapshot: 0 there, φ(t) − φ(0) later (and really moved).
+    double moved = 0.0;
+    for (int k = 0; k < kShellNodes; ++k) {
+      const Vec3 u =
+          s->bodies[kFirstShellNode + k].position - s0.bodies[kFirstShellNode + k].position;
+      EXPECT_LT((v.displacement[kOtherPoints + k] - u).norm(), 1e-14) << k;
+      moved = std::max(moved, u.norm());
+    }
+    EXPECT_EQ(moved > 0.1, s->step == 1);
+    // Resultants in the element frame and the von Mises magnitudes; 0 on bodies and the beam.
+    for (const char* name : kShellScalars) {
+      SCOPED_TRACE(name);
+      const auto values = data_array(xml, name);
+      ASSERT_EQ(static_cast<long>(values.size()), v.n_cells);
+      for (long c = 0; c < kOtherCells; ++c) EXPECT_EQ(values[c], 0.0) << c;
+      for (int e = 0; e < 3; ++e) {
+        const double expected = shell_value(s->shell_elements[e], name);
+        EXPECT_NEAR(values[kOtherCells + e], expected, 1e-14 * std::abs(expected)) << e;
+        EXPECT_NE(expected, 0.0);
+      }
+    }
+    // The beam arrays n, m: the beam element's values, 0 on the shells.
+    const auto n = as_vec3(data_array(xml, "n")), m = as_vec3(data_array(xml, "m"));
+    ASSERT_EQ(static_cast<long>(n.size()), v.n_cells);
+    EXPECT_EQ(n[kOtherCells - 1], Vec3(1, 2, 3));
+    EXPECT_EQ(m[kOtherCells - 1], Vec3(-0.5, 0.25, 4));
+    for (long c = kOtherCells; c < v.n_cells; ++c) {
+      EXPECT_EQ(n[c], Vec3::Zero());
+      EXPECT_EQ(m[c], Vec3::Zero());
+    }
+    // Array names and order; the legend of shell_id as field data, the odd name escaped.
+    EXPECT_EQ(data_array_names(xml, "PointData"),
+              (std::vector<std::string>{"velocity", "displacement", "director"}));
+    EXPECT_EQ(data_array_names(xml, "CellData"),
+              (std::vector<std::string>{"body_id", "part", "n", "m", "shell_id", "n11", "n22",
+                                        "n12", "m11", "m22", "m12", "q1", "q2", "n_vm", "m_vm"}));
+    const std::string odd = "shell_id[a&lt;&amp;&gt;&quot;b]";
+    EXPECT_EQ(data_array_names(xml, "FieldData"),
+              (std::vector<std::string>{"TimeValue", "shell_id[q]", "shell_id[p]", odd}));
+    EXPECT_EQ(data_array(xml, "shell_id[q]"), std::vector<double>{0});
+    EXPECT_EQ(data_array(xml, "shell_id[p]"), std::vector<double>{1});
+    EXPECT_EQ(data_array(xml, odd), std::vector<double>{2});
+  }
+}
+
+// The displacement is from the first snapshot the writer sees, even when that one is not written
+// (every = 2 and a series starting at step 1).
+TEST(VtkWriter, ShellDisplacementIsFromTheFirstSnapshot) {
+  TempDir dir;
+  const auto model = shell_model();
+  const auto first = shell_snapshot(1, 0.25);
+  {
+    io::VtkSeriesWriter w(dir.path(), model, 2);
+    w.on_snapshot(first);
+    w.on_snapshot(shell_snapshot(2, 0.5));
+    w.on_snapshot(shell_snapshot(3, 0.75));
+    w.on_finish();
+    EXPECT_EQ(w.files(), (std::vector<std::string>{"vtk/step_000002.vtu", "vtk/step_000003.vtu"}));
+  }
+  for (const int step : {2, 3}) {
+    SCOPED_TRACE(step);
+    const auto s = shell_snapshot(step, 0.25 * step);
+    const Vtu v = read_vtu(dir.path() / ("vtk/step_00000" + std::to_string(step) + ".vtu"));
+    expect_consistent(v);
+    ASSERT_EQ(static_cast<long>(v.displacement.size()), v.n_points);
+    for (int k = 0; k < kShellNodes; ++k) {
+      const int node = kFirstShellNode + k;
+      const Vec3 u = s.bodies[node].position - first.bodies[node].position;
+      EXPECT_LT((v.displacement[v.n_points - kShellNodes + k] - u).norm(), 1e-14) << k;
+    }
+  }
+}
+
+// Without shell elements (no shells in the model, or shells but no elements in the snapshot)
+// the file is byte for byte what the writer wrote before shells existed (this text was written
+// by that writer): a body without shape, its director lines and a beam element.
+TEST(VtkWriter, OutputWithoutShellsIsUnchanged) {
+  const std::string expected =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <UnstructuredGrid>\n"
+      "    <FieldData>\n"
+      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">\n"
+      "        0.125\n"
+      "      </DataArray>\n"
+      "    </FieldData>\n"
+      "    <Piece NumberOfPoints=\"13\" NumberOfCells=\"5\">\n"
+      "      <PointData Vectors=\"velocity\">\n"
+      "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">\n"
+      "          0.5 0 0\n"
+      "          0.5 0 0\n"
+      "          0.5 0.2 0\n"
+      "          0.3 0 0\n"
+      "          0.5 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "        </DataArray>\n"
+      "      </PointData>\n"
+      "      <CellData Scalars=\"body_id\">\n"
+      "        <DataArray type=\"Int32\" Name=\"body_id\" format=\"ascii\">\n"
+      "          0 0 0 0 \n"
+      "          -1 \n"
+      "        </DataArray>\n"
+      "        <DataArray type=\"Int32\" Name=\"part\" format=\"ascii\">\n"
+      "          0 1 2 3 \n"
+      "          4 \n"
+      "        </DataArray>\n"
+      "        <DataArray type=\"Float64\" Name=\"n\" NumberOfComponents=\"3\" format=\"ascii\">\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          1 2 3\n"
+      "        </DataArray>\n"
+      "        <DataArray type=\"Float64\" Name=\"m\" NumberOfComponents=\"3\" format=\"ascii\">\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          0 0 0\n"
+      "          -0.5 0.25 4\n"
+      "        </DataArray>\n"
+      "      </CellData>\n"
+      "      <Points>\n"
+      "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">\n"
+      "          1 2 3\n"
+      "          1 2 3\n"
+      "          1.2 2 3\n"
+      "          1 2.2 3\n"
+      "          1 2 3.2\n"
+      "          0 -0.05 -0.025\n"
+      "          0 0.05 -0.025\n"
+      "          0 0.05 0.025\n"
+      "          0 -0.05 0.025\n"
+      "          1 -0.05 -0.025\n"
+      "          1 0.05 -0.025\n"
+      "          1 0.05 0.025\n"
+      "          1 -0.05 0.025\n"
+      "        </DataArray>\n"
+      "      </Points>\n"
+      "      <Cells>\n"
+      "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n"
+      "          0 \n"
+      "          1 2 \n"
+      "          1 3 \n"
+      "          1 4 \n"
+      "          5 6 7 8 9 10 11 12 \n"
+      "        </DataArray>\n"
+      "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n"
+      "          1 3 5 7 \n"
+      "          15 \n"
+      "        </DataArray>\n"
+      "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n"
+      "          1 3 3 3 \n"
+      "          12 \n"
+      "        </DataArray>\n"
+      "      </Cells>\n"
+      "    </Piece>\n"
+      "  </UnstructuredGrid>\n"
+      "</VTKFile>\n";
+  model::Model m;
+  model::Body body;
+  body.name = "bob";
+  body.mass = 1.0;
+  m.bodies = {body};
+  model::Beam beam;
+  beam.name = "rod";
+  beam.points = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+  beam.draw_width = 0.1;
+  beam.draw_height = 0.05;
+  m.beams = {beam};
+  integrate::Snapshot s;
+  s.step = 0;
+  s.t = 0.125;
+  integrate::BodyPose a;
+  a.position = Vec3(1, 2, 3);
+  a.velocity = Vec3(0.5, 0, 0);
+  a.angular_velocity = Vec3(0, 0, 1);
+  integrate::BodyPose n0, n1;
+  n0.directors << 0, 0, 1, 1, 0, 0, 0, 1, 0;  // d₁ = y, d₂ = z, d₃ = x
+  n1.directors = n0.directors;
+  n1.position = Vec3(1, 0, 0);
+  s.bodies = {a, n0, n1};
+  s.beam_elements = {{"rod", 0, 1, 2, Vec3(1, 2, 3), Vec3(-0.5, 0.25, 4)}};
+  for (const bool shell_in_model : {false, true}) {
+    SCOPED_TRACE(shell_in_model);
+    TempDir dir;
+    auto model = m;
+    if (shell_in_model) model.shells.resize(1), model.shells[0].name = "p";
+    {
+      io::VtkSeriesWriter w(dir.path(), model, 1);
+      w.on_snapshot(s);
+      w.on_finish();
+    }
+    EXPECT_EQ(read_text(dir.path() / "vtk/step_000000.vtu"), expected);
+  }
+}
+
+// shell_mesh on its own: each node once, in node order, local connectivity; von_mises by known
+// states and its invariance under a rotation of the frame; errors for bad node indices.
+TEST(VtkWriter, ShellMeshAndVonMises) {
+  const auto s0 = shell_snapshot(0, 0.0), s1 = shell_snapshot(1, 0.5);
+  std::vector<Vec3> reference;
+  for (const auto& b : s0.bodies) reference.push_back(b.position);
+  const io::ShellMesh sm = io::shell_mesh(s1, reference);
+  std::vector<int> nodes(kShellNodes);
+  for (int k = 0; k < kShellNodes; ++k) nodes[k] = kFirstShellNode + k;
+  EXPECT_EQ(sm.nodes, nodes);
+  ASSERT_EQ(sm.mesh.points.size(), nodes.size());
+  ASSERT_EQ(sm.displacements.size(), nodes.size());
+  ASSERT_EQ(sm.directors.size(), nodes.size());
+  EXPECT_EQ(sm.mesh.connectivity, (std::vector<int>{0, 1, 4, 3, 1, 2, 5, 4, 6, 7, 8, 9}));
+  EXPECT_EQ(sm.mesh.offsets, (std::vector<int>{4, 8, 12}));
+  EXPECT_EQ(sm.mesh.types, std::vector<unsigned char>(3, io::kVtkQuad));
+  EXPECT_EQ(sm.mesh.parts, std::vector<int>(3, io::kShellPart));
+  for (int k = 0; k < kShellNodes; ++k) {
+    const auto& pose = s1.bodies[nodes[k]];
+    EXPECT_EQ(sm.mesh.points[k], pose.position);
+    EXPECT_EQ(sm.mesh.velocities[k], pose.velocity);
+    EXPECT_EQ(sm.directors[k], pose.directors.col(2));
+    EXPECT_EQ(sm.displacements[k], pose.position - reference[nodes[k]]);
+  }
+
+  Eigen::Matrix2d a;
+  a << -3, 0, 0, 0;  // uniaxial
+  EXPECT_DOUBLE_EQ(io::von_mises(a), 3.0);
+  a << 2, 0, 0, 2;  // equibiaxial
+  EXPECT_DOUBLE_EQ(io::von_mises(a), 2.0);
+  a << 0, 1.5, 1.5, 0;  // pure shear
+  EXPECT_DOUBLE_EQ(io::von_mises(a), std::sqrt(3.0) * 1.5);
+  a << 1.5, 0.25, 0.25, -2;
+  const Eigen::Matrix2d Q = Eigen::Rotation2Dd(0.7).toRotationMatrix();
+  EXPECT_NEAR(io::von_mises(Q * a * Q.transpose()), io::von_mises(a), 1e-14);
+  EXPECT_DOUBLE_EQ(io::von_mises(a), std::sqrt(1.5 * 1.5 + 4 + 3 + 3 * 0.0625));
+
+  auto bad = s1;
+  bad.shell_elements[1].nodes[2] = 99;
+  EXPECT_THROW(io::shell_mesh(bad, reference), std::runtime_error);
+  EXPECT_THROW(io::shell_mesh(s1, std::vector<Vec3>(reference.begin(), reference.end() - 1)),
+               std::runtime_error);
+  TempDir dir;
+  auto model = shell_model();
+  model.shells.pop_back();
+  model.shells.pop_back();  // only q
+  io::VtkSeriesWriter w(dir.path(), model, 1);
+  EXPECT_THROW(w.on_snapshot(s0), std::runtime_error);  // p is not in the model
+}
+
+namespace {
+// Runs the isoflex executable; its exit code, stdout and stderr.
+int run_isoflex(const std::string& args, std::string& output) {
+  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (p == nullptr) return -1;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) output += buf.data();
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+}  // namespace
+
+// `isoflex run` on a plate (2 × 1 elements, clamped along x = 0, under pressure) next to a rigid
+// body: every file of results.pvd is well-formed and holds the plate's two quads after the body,
+// the plate's nodes at t = 0, and its displacement and resultants at the end.
+TEST(VtkWriter, IsoflexRunWritesShellQuads) {
+  TempDir dir;
+  std::ofstream(dir.path() / "plate.yaml") << R"(name: shell_vtk
+solver: {dt: 0.01, t_end: 0.03}
+bodies:
+  - name: hub
+    mass: 2
+    inertia: [0.1, 0.2, 0.3]
+    position: [-0.3, 0.25, 0]
+    shape: {type: box, size: [0.2, 0.5, 0.1]}
+shells:
+  - name: p
+    plate: {corners: [[0, 0, 0], [1, 0, 0], [1, 0.5, 0], [0, 0.5, 0]], elements: [2, 1]}
+    material: {E: 1.0e5, nu: 0.3, thickness: 0.05, density: 100}
+shell_supports:
+  - {shell: p, edge: u0, translation: all, director: fixed}
+shell_loads:
+  - {shell: p, pressure: "100"}
+)";
+  std::string output;
+  ASSERT_EQ(run_isoflex("run " + (dir.path() / "plate.yaml").string() + " -o " +
+                            (dir.path() / "out").string(),
+                        output),
+            0)
+      << output;
+  const std::string pvd = read_text(dir.path() / "out/results.pvd");
+  EXPECT_EQ(xml_error(pvd), "");
+  const std::regex ds("file=\"([^\"]*)\"");
+  std::vector<std::string> files;
+  for (std::sregex_iterator it(pvd.begin(), pvd.end(), ds), end; it != end; ++it)
+    files.push_back((*it)[1]);
+  ASSERT_EQ(files.size(), 4u);  // t = 0 and three steps
+
+  constexpr long kHubPoints = 8 + 4, kHubCells = 6 + 3, kPlatePoints = 6;
+  std::vector<Vec3> initial;  // the plate's points in the first file
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const std::string xml = read_text(dir.path() / "out" / f);
+    EXPECT_EQ(xml_error(xml), "");
+    const Vtu v = read_vtu(dir.path() / "out" / f);
+    expect_consistent(v);
+    ASSERT_EQ(v.n_points, kHubPoints + kPlatePoints);
+    ASSERT_EQ(v.n_cells, kHubCells + 2);
+    ASSERT_EQ(static_cast<long>(v.displacement.size()), v.n_points);
+    EXPECT_EQ(data_array(xml, "shell_id[p]"), std::vector<double>{0});
+    const std::vector<Vec3> plate(v.points.end() - kPlatePoints, v.points.end());
+    if (initial.empty()) initial = plate;
+    for (long c = kHubCells; c < v.n_cells; ++c) {
+      EXPECT_EQ(v.types[c], 9);
+      EXPECT_EQ(v.part[c], 5);
+      EXPECT_EQ(v.shell_id[c], 0);
+      EXPECT_EQ(v.body_id[c], -1);
+      // At t = 0 a 0.5 × 0.5 square of the plate, counter-clockwise about +z (the directors).
+      const long begin = v.offsets[c - 1];
+      Vec3 area = Vec3::Zero(), centre = Vec3::Zero();
+      for (long k = 0; k < 4; ++k) {
+        const long i = v.connectivity[begin + k], j = v.connectivity[begin + (k + 1) % 4];
+        EXPECT_GE(i, kHubPoints);
+        const Vec3 xi = initial[i - kHubPoints], xj = initial[j - kHubPoints];
+        area += 0.5 * xi.cross(xj);
+        centre += 0.25 * xi;
+      }
+      EXPECT_LT((area - Vec3(0, 0, 0.25)).norm(), 1e-14);
+      EXPECT_NEAR(centre.y(), 0.25, 1e-14);
+      EXPECT_NEAR(centre.x(), c == kHubCells ? 0.25 : 0.75, 1e-14);
+    }
+    double max_u = 0.0;
+    for (long k = 0; k < kPlatePoints; ++k) {
+      const long i = kHubPoints + k;
+      EXPECT_LT((v.displacement[i] - (v.points[i] - initial[k])).norm(), 1e-14);
+      EXPECT_NEAR(v.director[i].norm(), 1.0, 1e-12);
+      if (f == files.front()) {
+        EXPECT_EQ(v.director[i], Vec3::UnitZ());
+      }
+      if (initial[k].x() == 0.0) {  // clamped
+        EXPECT_EQ(v.displacement[i], Vec3::Zero());
+      }
+      max_u = std::max(max_u, v.displacement[i].norm());
+    }
+    const auto m_vm = data_array(xml, "m_vm");
+    ASSERT_EQ(static_cast<long>(m_vm.size()), v.n_cells);
+    if (f == files.back()) {
+      EXPECT_GT(max_u, 1e-3);  // the pressure has bent the plate
+      EXPECT_GT(m_vm[kHubCells], 0.0);
+    } else if (f == files.front()) {
+      EXPECT_EQ(max_u, 0.0);
+      EXPECT_EQ(m_vm[kHubCells], 0.0);
+    }
+  }
+}
+
+// The well-formedness check of support/vtu.hpp finds what it is there to find.
+TEST(VtuSupport, XmlErrorFindsMalformedXml) {
+  EXPECT_EQ(xml_error("<?xml version=\"1.0\"?>\n<a x=\"1&amp;2\"><!-- c --><b/>t &lt;</a>\n"), "");
+  for (const char* bad : {
+           "<a><b></a></b>",           // crossed
+           "<a x=1></a>",              // unquoted attribute
+           "<a x=\"&\"></a>",          // stray '&' in a value
+           "<a x=\"1\" x=\"2\"></a>",  // duplicate attribute
+           "<a>1 < 2</a>",             // '<' in text
+           "<a></a><b></b>",           // two roots
+           "<a><b></b>",               // unclosed
+           "<a>x</a>y",                // text after the root
+           "<a><!-- x -- y --></a>",   // "--" in a comment
+       }) {
+    EXPECT_NE(xml_error(bad), "") << bad;
+  }
 }
 
 // ---------------------------------------------------------------- HistoryWriter

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <numbers>
 #include <stdexcept>
 #include <system_error>
 
+#include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
 
 namespace isoflex::io {
@@ -142,6 +144,71 @@ void append_real(fmt::memory_buffer& out, double v) {
   fmt::format_to(std::back_inserter(out), "{:.15g}", v);
 }
 
+// One indented line "x y z" of a three-component array.
+void append_vec3_line(fmt::memory_buffer& out, const Vec3& v) {
+  out.append(std::string_view("          "));
+  append_real(out, v.x());
+  out.push_back(' ');
+  append_real(out, v.y());
+  out.push_back(' ');
+  append_real(out, v.z());
+  out.push_back('\n');
+}
+
+// `count` copies of `value` (the filler of the body and beam cells or points in a shell array),
+// a bounded number per line so that the lines stay readable.
+void append_filler(fmt::memory_buffer& out, std::size_t count, std::string_view value) {
+  constexpr std::size_t kPerLine = 20;
+  for (std::size_t done = 0; done < count;) {
+    out.append(std::string_view("          "));
+    for (std::size_t k = 0; k < kPerLine && done < count; ++k, ++done) {
+      out.append(value);
+      out.push_back(' ');
+    }
+    out.push_back('\n');
+  }
+}
+
+// A shell name in an attribute value (names are free text in the model file).
+std::string xml_attribute(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// A scalar cell array of the shells in write_vtu: filler on the first `n_other` cells (bodies
+// and beams), then value(k) for shell element k = 0 … n_shell − 1, one per line.
+void append_shell_cell_scalar(fmt::memory_buffer& out, std::string_view type, std::string_view name,
+                              std::size_t n_other, std::string_view filler, std::size_t n_shell,
+                              const std::function<void(std::size_t)>& value) {
+  fmt::format_to(std::back_inserter(out),
+                 "        <DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n", type, name);
+  append_filler(out, n_other, filler);
+  for (std::size_t k = 0; k < n_shell; ++k) {
+    out.append(std::string_view("          "));
+    value(k);
+    out.push_back('\n');
+  }
+  out.append(std::string_view("        </DataArray>\n"));
+}
+
 }  // namespace
 
 double director_length(const model::Shape& s) {
@@ -225,6 +292,10 @@ VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const mode
     beam_sections_[b.name] = {b.draw_width > 0 ? b.draw_width : length / 50,
                               b.draw_height > 0 ? b.draw_height : length / 50};
   }
+  for (const auto& sh : model.shells) {
+    shell_ids_[sh.name] = static_cast<int>(shell_names_.size());
+    shell_names_.push_back(sh.name);
+  }
   if (every_ <= 0) return;
   std::error_code ec;
   std::filesystem::create_directories(outdir_ / "vtk", ec);
@@ -243,6 +314,12 @@ VtkSeriesWriter::~VtkSeriesWriter() {
 
 void VtkSeriesWriter::on_snapshot(const integrate::Snapshot& s) {
   if (every_ <= 0) return;
+  // Taken whether or not this snapshot is written: the displacement is from t = 0.
+  if (!have_reference_) {
+    reference_positions_.reserve(s.bodies.size());
+    for (const auto& b : s.bodies) reference_positions_.push_back(b.position);
+    have_reference_ = true;
+  }
   if (s.step % every_ == 0) {
     write_vtu(s);
     last_.reset();
@@ -264,11 +341,12 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
                                          s.bodies.size(), shapes_.size()));
   }
   // Bodies (id = body index), then one hexahedron per beam element (id −1, part 4) carrying the
-  // element's stress resultants.
+  // element's stress resultants, then the shell mid-surfaces (id −1, part 5) as the last mesh, so
+  // that the shell arrays are filler followed by the shell values.
   std::vector<BodyMesh> meshes;
   std::vector<int> ids;
   std::vector<std::pair<Vec3, Vec3>> resultants;  // (n, m) of the mesh's cells
-  meshes.reserve(shapes_.size() + s.beam_elements.size());
+  meshes.reserve(shapes_.size() + s.beam_elements.size() + 1);
   std::size_t n_points = 0, n_cells = 0;
   for (std::size_t i = 0; i < shapes_.size(); ++i) {
     meshes.push_back(body_mesh(shapes_[i], s.bodies[i]));
@@ -281,6 +359,23 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     meshes.push_back(beam_element_mesh(a, b, beam_sections_.at(e.beam)));
     ids.push_back(-1);
     resultants.emplace_back(e.n, e.m);
+  }
+  const bool shells = !s.shell_elements.empty();
+  ShellMesh shell;
+  std::vector<int> shell_ids;  // per shell element
+  if (shells) {
+    for (const auto& e : s.shell_elements) {
+      const auto found = shell_ids_.find(e.shell);
+      if (found == shell_ids_.end()) {
+        throw std::runtime_error(fmt::format(
+            "VTK output: snapshot has an element of shell \"{}\", not in the model", e.shell));
+      }
+      shell_ids.push_back(found->second);
+    }
+    shell = shell_mesh(s, reference_positions_);
+    meshes.push_back(std::move(shell.mesh));
+    ids.push_back(-1);
+    resultants.emplace_back(Vec3::Zero(), Vec3::Zero());
   }
   for (const auto& m : meshes) {
     n_points += m.points.size();
@@ -298,8 +393,16 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
                  "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
                  "format=\"ascii\">\n        ");
   append_real(out, s.t);
+  fmt::format_to(it, "\n      </DataArray>\n");
+  if (shells) {
+    for (std::size_t k = 0; k < shell_names_.size(); ++k) {
+      fmt::format_to(it,
+                     "      <DataArray type=\"Int32\" Name=\"shell_id[{}]\" NumberOfTuples=\"1\" "
+                     "format=\"ascii\">\n        {}\n      </DataArray>\n",
+                     xml_attribute(shell_names_[k]), k);
+    }
+  }
   fmt::format_to(it,
-                 "\n      </DataArray>\n"
                  "    </FieldData>\n"
                  "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
                  n_points, n_cells);
@@ -310,17 +413,23 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
                  "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
                  "format=\"ascii\">\n");
   for (const auto& m : meshes) {
-    for (const Vec3& v : m.velocities) {
-      out.append(std::string_view("          "));
-      append_real(out, v.x());
-      out.push_back(' ');
-      append_real(out, v.y());
-      out.push_back(' ');
-      append_real(out, v.z());
-      out.push_back('\n');
+    for (const Vec3& v : m.velocities) append_vec3_line(out, v);
+  }
+  fmt::format_to(it, "        </DataArray>\n");
+  if (shells) {
+    // The shell points are the last ones, after those of the bodies and beams.
+    const std::size_t n_other = n_points - shell.nodes.size();
+    for (const auto* values : {&shell.displacements, &shell.directors}) {
+      fmt::format_to(it,
+                     "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" "
+                     "format=\"ascii\">\n",
+                     values == &shell.displacements ? "displacement" : "director");
+      append_filler(out, n_other, "0 0 0");
+      for (const Vec3& v : *values) append_vec3_line(out, v);
+      fmt::format_to(it, "        </DataArray>\n");
     }
   }
-  fmt::format_to(it, "        </DataArray>\n      </PointData>\n");
+  fmt::format_to(it, "      </PointData>\n");
 
   // Cell data
   fmt::format_to(it,
@@ -349,17 +458,33 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
                    which == 0 ? "n" : "m");
     for (std::size_t i = 0; i < meshes.size(); ++i) {
       const Vec3& v = which == 0 ? resultants[i].first : resultants[i].second;
-      for (std::size_t c = 0; c < meshes[i].types.size(); ++c) {
-        out.append(std::string_view("          "));
-        append_real(out, v.x());
-        out.push_back(' ');
-        append_real(out, v.y());
-        out.push_back(' ');
-        append_real(out, v.z());
-        out.push_back('\n');
-      }
+      for (std::size_t c = 0; c < meshes[i].types.size(); ++c) append_vec3_line(out, v);
     }
     fmt::format_to(it, "        </DataArray>\n");
+  }
+  if (shells) {
+    const auto& els = s.shell_elements;
+    const std::size_t n_other = n_cells - els.size();
+    append_shell_cell_scalar(out, "Int32", "shell_id", n_other, "-1", els.size(),
+                             [&](std::size_t k) { fmt::format_to(it, "{}", shell_ids[k]); });
+    // Symmetric parts of the off-diagonal components (the element's tensors are symmetric).
+    using E = integrate::ShellElementValue;
+    const std::pair<const char*, std::function<double(const E&)>> scalars[] = {
+        {"n11", [](const E& e) { return e.n(0, 0); }},
+        {"n22", [](const E& e) { return e.n(1, 1); }},
+        {"n12", [](const E& e) { return 0.5 * (e.n(0, 1) + e.n(1, 0)); }},
+        {"m11", [](const E& e) { return e.m(0, 0); }},
+        {"m22", [](const E& e) { return e.m(1, 1); }},
+        {"m12", [](const E& e) { return 0.5 * (e.m(0, 1) + e.m(1, 0)); }},
+        {"q1", [](const E& e) { return e.q(0); }},
+        {"q2", [](const E& e) { return e.q(1); }},
+        {"n_vm", [](const E& e) { return von_mises(e.n); }},
+        {"m_vm", [](const E& e) { return von_mises(e.m); }},
+    };
+    for (const auto& [name, value] : scalars) {
+      append_shell_cell_scalar(out, "Float64", name, n_other, "0", els.size(),
+                               [&](std::size_t k) { append_real(out, value(els[k])); });
+    }
   }
   fmt::format_to(it, "      </CellData>\n");
 
@@ -369,15 +494,7 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
                  "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
                  "format=\"ascii\">\n");
   for (const auto& m : meshes) {
-    for (const Vec3& x : m.points) {
-      out.append(std::string_view("          "));
-      append_real(out, x.x());
-      out.push_back(' ');
-      append_real(out, x.y());
-      out.push_back(' ');
-      append_real(out, x.z());
-      out.push_back('\n');
-    }
+    for (const Vec3& x : m.points) append_vec3_line(out, x);
   }
   fmt::format_to(it, "        </DataArray>\n      </Points>\n");
 

@@ -1,19 +1,34 @@
 #pragma once
-// A ParaView time series of the bodies: outdir/vtk/step_NNNNNN.vtu (VTK XML UnstructuredGrid,
-// ascii) for every `every`-th snapshot plus the last one, and outdir/results.pvd (a VTK Collection
-// of them, rewritten atomically whenever a file is added, so an interrupted run leaves a valid
-// series).
+// A ParaView time series of the bodies, beams and shells: outdir/vtk/step_NNNNNN.vtu (VTK XML
+// UnstructuredGrid, ascii) for every `every`-th snapshot plus the last one, and outdir/results.pvd
+// (a VTK Collection of them, rewritten atomically whenever a file is added, so an interrupted run
+// leaves a valid series).
 //
 // Each .vtu holds, per body, its drawing shape as surface cells in the current pose
 // x = φ + R·X (R = [d₁ d₂ d₃]) and the director triad as three line cells from φ.
 // Each beam element is one hexahedron between the cross-sections of its nodes (width and height
 // along d₁, d₂ from the beam's `draw` key, default 1/50 of its length): shear, bending and twist
 // show.
-//   cell data:  body_id (Int32, index into model.bodies; −1 for beam elements), part (Int32:
-//               0 shape, 1/2/3 = d₁/d₂/d₃, 4 beam element), n and m (Float64 × 3: the beam
-//               element's stress resultants in director components, DNSM-III (69); 0 for bodies)
+// Each director-shell element is one quad (VTK_QUAD) through the current positions φ of its four
+// nodes (the deformed mid-surface, shell_mesh.hpp); neighbouring elements share their points.
+//   cell data:  body_id (Int32, index into model.bodies; −1 for beam and shell elements), part
+//               (Int32: 0 shape, 1/2/3 = d₁/d₂/d₃, 4 beam element, 5 shell element), n and m
+//               (Float64 × 3: the beam element's stress resultants in director components,
+//               DNSM-III (69); 0 for bodies and shells)
 //   point data: velocity (Float64 × 3) = φ̇ + ω × (x − φ)
 //   field data: TimeValue (Float64, the snapshot time; ParaView shows it as the time)
+// With shell elements in the snapshot (and only then, so that files without shells stay as they
+// were) the same grid also carries — one grid rather than a second <Piece>, because VTK's reader
+// merges the pieces of a file into one grid anyway, and an array missing from one piece is left
+// unset there without a warning (VTK 9.1), so the pieces would need the same arrays regardless:
+//   cell data:  shell_id (Int32, index into model.shells; −1 for bodies and beams); n11, n22,
+//               n12, m11, m22, m12, q1, q2 (Float64: the element's membrane forces, bending
+//               moments and shear forces at its centre, components in its frame (e₁, e₂) at t = 0,
+//               ShellElementValue); n_vm, m_vm (Float64: von_mises(n), von_mises(m) of
+//               shell_mesh.hpp); all 0 on the cells of bodies and beams
+//   point data: displacement (Float64 × 3) = φ − φ at the first snapshot, and director
+//               (Float64 × 3) = d, on the shell points; 0 on the points of bodies and beams
+//   field data: shell_id[NAME] (Int32, one per shell of the model: its shell_id, the legend)
 #include <array>
 #include <chrono>
 #include <filesystem>
@@ -34,7 +49,7 @@ struct BodyMesh {
   std::vector<int> connectivity;     // point indices local to this mesh
   std::vector<int> offsets;          // end offset of each cell in `connectivity`
   std::vector<unsigned char> types;  // VTK cell types
-  std::vector<int> parts;            // 0 shape, 1/2/3 = director d₁/d₂/d₃
+  std::vector<int> parts;  // 0 shape, 1/2/3 = director d₁/d₂/d₃, kBeamPart, kShellPart
 };
 
 // VTK cell type numbers used here.
@@ -47,8 +62,11 @@ inline constexpr unsigned char kVtkHexahedron = 12;
 
 // Segments around the circumference of cylinders and spheres, rings of a sphere (pole to pole).
 inline constexpr int kRoundSegments = 24;
-inline constexpr int kBeamPart = 4;
 inline constexpr int kSphereRings = 12;
+
+// BodyMesh::parts (the `part` cell data) of beam and shell elements.
+inline constexpr int kBeamPart = 4;
+inline constexpr int kShellPart = 5;
 
 // Length of the drawn director lines: half the largest shape dimension, 0.2 without a shape.
 double director_length(const model::Shape& shape);
@@ -83,6 +101,11 @@ class VtkSeriesWriter : public integrate::Observer {
   std::filesystem::path outdir_;
   std::vector<model::Shape> shapes_;
   std::map<std::string, std::array<double, 2>> beam_sections_;  // drawn width, height per beam
+  std::vector<std::string> shell_names_;                        // index = shell_id
+  std::map<std::string, int> shell_ids_;
+  // φ of every node at the first snapshot: the reference of the shells' displacement.
+  std::vector<Vec3> reference_positions_;
+  bool have_reference_ = false;
   int every_;
   std::vector<std::string> files_;
   std::string pvd_entries_;  // the <DataSet .../> lines so far
