@@ -110,22 +110,29 @@ EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const St
   return c;
 }
 
-VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt) const {
+VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predictor p) const {
   const bool have = s.last_unknowns.size() == unknowns();
+  const double ratio = s.last_dt > 0.0 ? dt / s.last_dt : 1.0;
   switch (settings_.formulation) {
     case F::constrained: {
+      // λ ≈ λₙ in every predictor.
       VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
-      // q_{n+1} ≈ qₙ + Δt vₙ, λ ≈ λₙ (extrapolating the last increment diverged on a whipping
-      // chain).
-      x.head(sys_.n()) = s.q + (have ? VecX(dt * s.v) : VecX::Zero(sys_.n()));
+      x.head(sys_.n()) = s.q;
+      if (have && p == Predictor::extrapolated) x.head(sys_.n()) += dt * s.v;
+      if (have && p == Predictor::secant)
+        x.head(sys_.n()) += ratio * s.last_unknowns.head(sys_.n());
       return x;
     }
     case F::nullspace:
-      return have ? VecX(s.q + dt * s.v) : s.q;
+      if (have && p == Predictor::extrapolated) return s.q + dt * s.v;
+      if (have && p == Predictor::secant) return s.q + ratio * s.last_unknowns;
+      return s.q;
     case F::reparametrized: {
       VecX u = VecX::Zero(sys_.k());
-      if (have) u = s.last_unknowns * (s.last_dt > 0.0 ? dt / s.last_dt : 1.0);
-      if (have && !sys_.frame_nodes_only()) sys_.guess_director_increments(s.q, s.v, dt, u);
+      if (!have || p == Predictor::at_rest) return u;
+      u = ratio * s.last_unknowns;
+      if (p == Predictor::extrapolated && !sys_.frame_nodes_only())
+        sys_.guess_director_increments(s.q, s.v, dt, u);
       return u;
     }
   }
@@ -343,21 +350,42 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const double ref = std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
                                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-  VecX x = start_unknowns(s, dt);
   NewtonMatrix J;
   const bool fast = bordered_ || tree_.has_value();
-  const StepStats st = newton_loop(
-      x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt), 6,
-      [&](const VecX& y, bool matrix) { return evaluate(c, y, matrix ? &J : nullptr, fast); },
-      [&](const VecX& R) { return correction(J, R); }, [&](const VecX&) { return ref; },
-      [&](const VecX& dx) {
-        // Configuration units for every formulation (positions; u moves material points by
-        // about |u| times the size of the system).
-        return settings_.formulation == F::constrained
-                   ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
-                   : dx.lpNorm<Eigen::Infinity>() *
-                         (settings_.formulation == F::reparametrized ? qscale : 1.0);
-      });
+  // Newton from the extrapolation qₙ + Δt vₙ first; if it fails, from qₙ and from the secant
+  // qₙ + (qₙ − qₙ₋₁). The step equations are the same, only the start differs: thin shells have
+  // small convergence basins (membrane/bending stiffness 12/h²), and a velocity that carries the
+  // undamped period-2 oscillation of unresolved director modes puts the extrapolation outside
+  // them (examples/intersecting_shells/README.md).
+  const bool have = s.last_unknowns.size() == unknowns();
+  const std::vector<Predictor> starts =
+      have ? std::vector{Predictor::extrapolated, Predictor::at_rest, Predictor::secant}
+           : std::vector{Predictor::at_rest};
+  VecX x;
+  StepStats st;
+  int spent = 0;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    x = start_unknowns(s, dt, starts[k]);
+    try {
+      st = newton_loop(
+          x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt),
+          [&](const VecX& y, bool matrix) { return evaluate(c, y, matrix ? &J : nullptr, fast); },
+          [&](const VecX& R) { return correction(J, R); }, [&](const VecX&) { return ref; },
+          [&](const VecX& dx) {
+            // Configuration units for every formulation (positions; u moves material points by
+            // about |u| times the size of the system).
+            return settings_.formulation == F::constrained
+                       ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
+                       : dx.lpNorm<Eigen::Infinity>() *
+                             (settings_.formulation == F::reparametrized ? qscale : 1.0);
+          });
+      break;
+    } catch (const NewtonFailure&) {
+      if (k + 1 == starts.size()) throw;
+      spent += settings_.max_iterations;
+    }
+  }
+  st.iterations += spent;
   const VecX q1 = configuration(c, x);
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;

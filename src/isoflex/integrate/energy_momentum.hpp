@@ -78,7 +78,9 @@ class EnergyMomentumIntegrator {
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
   // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the
   // first step, the extrapolation of the last step after that.
-  VecX start_unknowns(const State& s) const { return start_unknowns(s, settings_.dt); }
+  VecX start_unknowns(const State& s) const {
+    return start_unknowns(s, settings_.dt, Predictor::extrapolated);
+  }
   VecX residual(const State& s, const VecX& x, MatX* J) const;
 
   Snapshot snapshot(const State& s, const StepStats& st,
@@ -87,7 +89,10 @@ class EnergyMomentumIntegrator {
  private:
   struct StepContext;
   StepContext context(const State& s, double dt) const;
-  VecX start_unknowns(const State& s, double dt) const;
+  // Newton start values: qₙ + Δt vₙ (λₙ, the last u with the director velocities), qₙ (u = 0),
+  // or the secant qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u).
+  enum class Predictor { extrapolated, at_rest, secant };
+  VecX start_unknowns(const State& s, double dt, Predictor p) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
   StepStats attempt(State& s, double dt) const;
   // attempt, retried as two steps of dt/2 on failure while depth < max_subdivisions.

@@ -8,7 +8,6 @@
 
 #include <cmath>
 #include <exception>
-#include <limits>
 #include <string>
 
 #include "isoflex/integrate/energy_momentum.hpp"
@@ -19,36 +18,19 @@ namespace isoflex::integrate {
 // scale(x) → the residual scale; increment(Δx) → the size of Δx in configuration units.
 template <class Residual, class Correction, class Scale, class Increment>
 StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
-                      const std::string& where, int max_halvings, Residual&& residual,
-                      Correction&& correction, Scale&& scale, Increment&& increment) {
+                      const std::string& where, Residual&& residual, Correction&& correction,
+                      Scale&& scale, Increment&& increment) {
   StepStats st;
   double ref = 1.0;
-  // Backtracking (max_halvings > 0, the time step): a correction that makes ‖R‖∞ more than double
-  // is halved, up to max_halvings times, before the next Newton step. The solution, and so every
-  // conservation property, is unchanged; only the path to it is (thin shells, DNSM-III §5.3,
-  // overshoot without it). Not in the load steps of a static solve, whose first corrections from
-  // an unloaded start legitimately raise ‖R‖.
-  double last = std::numeric_limits<double>::infinity();
-  VecX dx;
-  int halvings = 0;
   for (int it = 0; it <= settings.max_iterations; ++it) {
     const VecX R = residual(x, true);
     st.residual = R.lpNorm<Eigen::Infinity>();
     st.iterations = it;
-    // Growth well above the round-off floor of R only (near the floor ‖R‖ is noise).
-    if (!(st.residual <= 2.0 * last) && !(st.residual <= 1e-8 * ref) && dx.size() > 0 &&
-        halvings < max_halvings) {
-      dx *= 0.5;
-      x -= dx;
-      ++halvings;
-      continue;
-    }
     if (!std::isfinite(st.residual)) break;
-    halvings = 0;
-    last = st.residual;
     ref = scale(x);
     if (st.residual <= settings.residual_tolerance * ref) return st;
     if (it == settings.max_iterations) break;
+    VecX dx;
     try {
       dx = correction(R);
     } catch (const std::exception& e) {

@@ -81,7 +81,7 @@ StepStats StaticEquilibrium::step(State& s) const {
   solve::FixedPatternLU lu;
   // Residual scale: the forces that balance, ‖Gᵀλ‖∞.
   const StepStats st = newton_loop(
-      x, settings_, qscale, fmt::format("load step {} (t = {:.6g})", s.step + 1, t), 0,
+      x, settings_, qscale, fmt::format("load step {} (t = {:.6g})", s.step + 1, t),
       [&](const VecX& y, bool matrix) { return evaluate(t, y, matrix ? &J : nullptr); },
       [&](const VecX& R) { return lu.solve(J, -R); },
       [&](const VecX& y) {
