@@ -95,3 +95,14 @@ TEST(ScordelisLoDirectorShell, MidpointOfTheFreeEdgeConvergesToTheReference) {
   EXPECT_LT(std::abs(u16 - ref), std::abs(u8 - ref));
   EXPECT_LT(std::abs(u32 - ref), std::abs(u16 - ref));
 }
+
+// Reference 0.0924 (IGA-thesis §6.4.1.4, the hemisphere without hole) within 2 % on 16 × 16, as
+// the issue asks; the standard 18°-hole model is run (0.094 for it, MacNeal & Harder). Measured:
+// 8×8 0.09342, 16×16 0.09304, 32×32 0.09332 (examples/pinched_hemisphere/README.md).
+TEST(PinchedHemisphereDirectorShell, LoadPointMovesAsTheReference) {
+  const std::string text = example_text("pinched_hemisphere", "director_shell.yaml");
+  const auto path = static_probe(io::read_model_string(text, "director_shell.yaml"));
+  const double u = path.back().second.x() - 10.0;
+  EXPECT_LT(std::abs(u - 0.0924) / 0.0924, 0.02);
+  EXPECT_LT(std::abs(u - 0.094) / 0.094, 0.02);
+}
