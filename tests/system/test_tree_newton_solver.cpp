@@ -76,8 +76,8 @@ TEST(TreeNewtonSolver, SolvesTheReducedSystemOfAnyTree) {
     const system::SpMat K = random_tree_matrix(sys, g);
     const VecX b = test::random_vector(g, sys.k());
     // J = 𝖯(q_{n+½})ᵀ K P_tree(q_{n+1}) D(u), formed explicitly.
-    const MatX J =
-        MatX(system::SpMat(sys.tree_null_space(qm).transpose()) * K * sys.update_derivative(qn, u));
+    const MatX J = MatX(system::SpMat(sys.tree_null_space(qm).transpose()) * K *
+                        sys.update_derivative(qn, q1, u));
     const VecX expected = J.fullPivLu().solve(b);
     const auto du = solver.solve(qm, q1, u, K, b);
     ASSERT_TRUE(du.has_value());

@@ -265,7 +265,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
         append(t, SpMat(-(PmT * (K * P1))), 0, 0);
         append(t, LmT, 0, N6);
         append(t, L1, N6, 0);
-        append(t, SpMat(-sys_.update_input_map(s.q, x)), N6, 2 * N6);
+        append(t, SpMat(-sys_.update_input_map(s.q, q1, x)), N6, 2 * N6);
         append(t, BmT, 2 * N6, N6);
         J->resize(2 * N6 + k, 2 * N6 + k);
         NJ->row = 2 * N6;
@@ -300,7 +300,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
       dq.resize(n, n);
       dq.setIdentity();
     } else {
-      dq = sys_.update_derivative(s.q, x);
+      dq = sys_.update_derivative(s.q, q1, x);
     }
     append(t, SpMat(SpMat(P.transpose()) * (K * dq)), 0, 0);
     append(t, SpMat(constraint_scale_ * (sys_.jacobian_rows(q1, con_rows) * dq)), kred, 0);

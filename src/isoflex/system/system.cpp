@@ -920,8 +920,7 @@ void System::guess_director_increments(const VecX& q, const VecX& v, double dt, 
   }
 }
 
-SpMat System::update_input_map(const VecX& qn, const VecX& u) const {
-  const VecX q1 = update(qn, u);
+SpMat System::update_input_map(const VecX& qn, const VecX& q1, const VecX& u) const {
   const InputBlocks in = update_input_blocks(qn, q1, u);
   Triplets t;
   for (std::size_t r = 0; r < roots_.size(); ++r)
@@ -934,8 +933,7 @@ SpMat System::update_input_map(const VecX& qn, const VecX& u) const {
   return B;
 }
 
-SpMat System::update_derivative(const VecX& qn, const VecX& u) const {
-  const VecX q1 = update(qn, u);
+SpMat System::update_derivative(const VecX& qn, const VecX& q1, const VecX& u) const {
   return internal_null_space(q1) * twist_map(q1, update_input_blocks(qn, q1, u));
 }
 

@@ -142,11 +142,12 @@ class System {
   // step at constant velocity, (Δt φ̇, Δt ω·d₂, −Δt ω·d₁) with ω = d × ḋ: the last step's
   // increments are in the tangent bases of the last step, which may differ (tangent_basis).
   void guess_director_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
-  // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u).
-  SpMat update_derivative(const VecX& qn, const VecX& u) const;
-  // ℬ̃(qₙ, u) (6N × k): ℬ at q_{n+1} = F(u) with rotation-vector columns multiplied by T(θ) and
+  // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u), with q1 = update(qn, u) (the caller has
+  // it already).
+  SpMat update_derivative(const VecX& qn, const VecX& q1, const VecX& u) const;
+  // ℬ̃(qₙ, u) (6N × k): ℬ at q1 = F_{qₙ}(u) with rotation-vector columns multiplied by T(θ) and
   // director tangent bases taken at tₙ (joints/joint.hpp, update_freedom_block).
-  SpMat update_input_map(const VecX& qn, const VecX& u) const;
+  SpMat update_input_map(const VecX& qn, const VecX& q1, const VecX& u) const;
 
   // Factors of the tree null space without forming it: (I − 𝒜(q)) t = ℬ(q) ν, so
   // P_tree = P_int (I − 𝒜)⁻¹ ℬ. `L` = I − 𝒜 (6N × 6N), `B` = ℬ (6N × k), `Pint` (n × 6N).
