@@ -72,14 +72,6 @@ Mat<6, 5> update_derivative(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>&
   return D;
 }
 
-Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u) {
-  const Vec3 dn = qn.tail<3>();
-  const Vec3 v = basis_n * u.tail<2>();
-  // Rotation by |v| about dₙ × v/|v| carries dₙ to exp_{dₙ}(v) and transports the basis.
-  const Mat3 R = rodrigues(dn.cross(v));
-  return R * basis_n;
-}
-
 Mat<6, 6> twist_null_space(const Q& q) {
   Mat<6, 6> P = Mat<6, 6>::Zero();
   P.topLeftCorner<3, 3>().setIdentity();

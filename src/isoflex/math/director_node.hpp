@@ -10,8 +10,8 @@ inline constexpr int kTwist = 5;
 inline constexpr int kConstraints = 1;
 using Q = Vec<6>;
 
-// Orthonormal (d₁, d₂) with d₁ × d₂ = d for a unit d (a smooth choice away from d ≈ −e₃ is not
-// needed: the basis is transported by update()).
+// Orthonormal (d₁, d₂) with d₁ × d₂ = d (d normalized first). Not continuous in d (the helper
+// axis switches), which is harmless: each time step takes the basis at dₙ afresh.
 Mat<3, 2> tangent_basis(const Vec3& d);
 
 double constraint(const Q& q);                 // (41)
@@ -22,8 +22,6 @@ Mat<6, 5> discrete_null_space(const Q& qn, const Mat<3, 2>& basis_n, const Q& qn
 // Reparametrization (53)–(54): φ + u_φ, exp_{dₙ}(D θ).
 Q update(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
 Mat<6, 5> update_derivative(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
-// Parallel transport of the tangent basis along the geodesic from dₙ to d_{n+1} = exp_{dₙ}(Dθ).
-Mat<3, 2> transport_basis(const Q& qn, const Mat<3, 2>& basis_n, const Vec<5>& u);
 
 // --- The node in the system's twist form (joints/joint.hpp) -----------------------------------
 // q̇ = P(q) t with t = (φ̇, ω), ḋ = ω × d: P = [I 0; 0 −d̂] (DNSM-III (68)), rank 5 (ω ∥ d is
