@@ -1,7 +1,7 @@
 #pragma once
 // Director node q = (φ, d) ∈ R⁶ on R³ × S² (DNSM-III (40)), used by Reissner–Mindlin shell nodes.
 // Generalized velocity s = (φ̇, θ̇₁, θ̇₂) ∈ R⁵ (47), relative to an orthonormal basis (d₁, d₂) of
-// T_d S² that the node carries from step to step.
+// T_d S² (tangent_basis(dₙ), taken afresh in every time step).
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::director_node {
