@@ -8,7 +8,8 @@ packages=(g++ cmake ninja-build ccache pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libbenchmark-dev python3-matplotlib
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-  libocct-data-exchange-dev libtbb-dev)
+  libocct-data-exchange-dev libtbb-dev libsuitesparse-dev
+  libopenblas0-serial)
 
 missing=()
 for p in "${packages[@]}"; do

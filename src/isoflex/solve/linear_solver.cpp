@@ -1,8 +1,9 @@
 #include "isoflex/solve/linear_solver.hpp"
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <stdexcept>
 
@@ -21,7 +22,7 @@ VecX solve(const SpMat& A, const VecX& b) {
     if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
     return x;
   }
-  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  Eigen::UmfPackLU<SpMat> lu;
   lu.analyzePattern(A);
   lu.factorize(A);
   if (lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
@@ -64,7 +65,7 @@ void analyze_if_new_pattern(Solver& solver, KeptPattern& kept, const SpMat& A) {
 }  // namespace
 
 struct FixedPatternLU::Impl {
-  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  Eigen::UmfPackLU<SpMat> lu;
   KeptPattern pattern;
 };
 
@@ -108,6 +109,30 @@ VecX FixedPatternLDLT::solve(const SpMat& A, const VecX& b) {
   m.ldlt.factorize(A);
   if (m.ldlt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
   return m.ldlt.solve(b);
+}
+
+struct FixedPatternCholesky::Impl {
+  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt;
+  KeptPattern pattern;
+};
+
+FixedPatternCholesky::FixedPatternCholesky() : impl_(std::make_unique<Impl>()) {}
+FixedPatternCholesky::~FixedPatternCholesky() = default;
+FixedPatternCholesky::FixedPatternCholesky(FixedPatternCholesky&&) noexcept = default;
+FixedPatternCholesky& FixedPatternCholesky::operator=(FixedPatternCholesky&&) noexcept = default;
+int FixedPatternCholesky::analyses() const {
+  return impl_->pattern.analyses;
+}
+
+VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
+  if (!A.isCompressed()) throw std::logic_error("FixedPatternCholesky: matrix not compressed");
+  Impl& m = *impl_;
+  analyze_if_new_pattern(m.llt, m.pattern, A);
+  m.llt.factorize(A);
+  if (m.llt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
+  VecX x = m.llt.solve(b);
+  if (!x.allFinite()) throw std::runtime_error("matrix not positive definite");
+  return x;
 }
 
 std::vector<int> independent_rows_lu(const MatX& G, double threshold) {

@@ -17,8 +17,9 @@ VecX solve(const SpMat& A, const VecX& b);
 
 // Solves A x = b for a sequence of matrices with one sparsity pattern (Newton matrices assembled
 // into a fixed pattern): the same dense/sparse choice as solve(), but the fill-reducing ordering
-// (COLAMD) and the symbolic analysis of the sparse LU are computed once and kept while the
-// pattern (outer and inner indices of the compressed A) is unchanged; only the numeric
+// and the symbolic analysis of the sparse LU (UMFPACK: multifrontal, AMD on A + Aᵀ for the
+// structurally symmetric Newton matrices, dense fronts through BLAS) are computed once and kept
+// while the pattern (outer and inner indices of the compressed A) is unchanged; only the numeric
 // factorization is repeated. Not thread-safe (a cache).
 class FixedPatternLU {
  public:
@@ -43,6 +44,24 @@ class FixedPatternLDLT {
   ~FixedPatternLDLT();
   FixedPatternLDLT(FixedPatternLDLT&&) noexcept;
   FixedPatternLDLT& operator=(FixedPatternLDLT&&) noexcept;
+  VecX solve(const SpMat& A, const VecX& b);
+  int analyses() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same for large symmetric positive definite matrices (stiffness matrices of static
+// analysis): supernodal Cholesky LLᵀ by CHOLMOD (its own choice of AMD or METIS ordering), the
+// symbolic analysis kept while the pattern does not change; the lower triangle of A is used.
+// Throws std::runtime_error if A is not positive definite.
+class FixedPatternCholesky {
+ public:
+  FixedPatternCholesky();
+  ~FixedPatternCholesky();
+  FixedPatternCholesky(FixedPatternCholesky&&) noexcept;
+  FixedPatternCholesky& operator=(FixedPatternCholesky&&) noexcept;
   VecX solve(const SpMat& A, const VecX& b);
   int analyses() const;
 
