@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoflex/io/kl_shell_reader.hpp"
 #include "isoflex/io/shell_reader.hpp"
 #include "isoflex/io/surface_reader.hpp"
 #include "isoflex/io/yaml_fields.hpp"
@@ -76,7 +77,7 @@ class Reader : YamlFields {
     check_keys(root, "",
                {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
                 "distributed_loads", "probes", "surfaces", "shells", "shell_supports",
-                "shell_connections", "shell_loads"});
+                "shell_connections", "shell_loads", "kl_shells", "kl_supports", "kl_loads"});
     Model m;
     m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -100,7 +101,13 @@ class Reader : YamlFields {
         fail(root["shells"], "shells", "\"" + s.name + "\" names a body or beam already");
       beams_.emplace(s.name, BeamInfo{s.source.line, s.node_count(), true});
     }
-    if (m.bodies.empty() && m.beams.empty() && m.shells.empty()) {
+    const KLShellReader kl(file());  // kl_shell_reader.cpp
+    m.kl_shells = kl.shells(root["kl_shells"], m.surfaces);
+    for (const auto& s : m.kl_shells)
+      if (body_lines_.contains(s.name) || beams_.contains(s.name))
+        fail(root["kl_shells"], "kl_shells",
+             "\"" + s.name + "\" names a body, beam or shell already");
+    if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];
       if (!bodies && beams) fail(beams, "beams", "at least one body, beam or shell is required");
@@ -119,7 +126,7 @@ class Reader : YamlFields {
             read_distributed_load(list[i], indexed("distributed_loads", i), i));
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
-        m.probes.push_back(read_probe(list[i], indexed("probes", i)));
+        m.probes.push_back(read_probe(list[i], indexed("probes", i), m, kl));
     m.shell_supports = shells.supports(root["shell_supports"], m.shells);
     for (auto& j :
          shells.connections(root["shell_connections"], m.shells, [&](const std::string& name) {
@@ -130,6 +137,8 @@ class Reader : YamlFields {
          }))
       m.joints.push_back(std::move(j));
     m.shell_loads = shells.loads(root["shell_loads"], m.shells);
+    m.kl_supports = kl.supports(root["kl_supports"], m);
+    m.kl_loads = kl.loads(root["kl_loads"], m);
     return m;
   }
 
@@ -554,9 +563,10 @@ class Reader : YamlFields {
     return l;
   }
 
-  Probe read_probe(const YAML::Node& n, const std::string& p) {
+  Probe read_probe(const YAML::Node& n, const std::string& p, const Model& m,
+                   const KLShellReader& kl) {
     expect_map(n, p);
-    check_keys(n, p, {"name", "body", "point", "point_local"});
+    check_keys(n, p, {"name", "body", "shell", "point", "point_local"});
     Probe r;
     r.source = source(n);
     const YAML::Node name = require(n, p, "name");
@@ -565,6 +575,24 @@ class Reader : YamlFields {
     if (const auto [pos, inserted] = probe_lines_.emplace(r.name, line_of(name)); !inserted)
       fail(name, join(p, "name"),
            fmt::format("duplicate probe name \"{}\" (first at line {})", r.name, pos->second));
+    if ((n["body"] ? 1 : 0) + (n["shell"] ? 1 : 0) != 1)
+      fail(n, p, "give exactly one of body (a body or node) or shell (a kl_shell, with point)");
+    if (const YAML::Node shell = n["shell"]) {
+      const std::string name = string(shell, join(p, "shell"));
+      const auto it = std::find_if(m.kl_shells.begin(), m.kl_shells.end(),
+                                   [&](const model::KLShell& s) { return s.name == name; });
+      if (it == m.kl_shells.end())
+        fail(shell, join(p, "shell"), "no kl_shell named \"" + name + "\"");
+      if (n["point_local"]) fail(n["point_local"], join(p, "point_local"), "not used with shell");
+      const YAML::Node pt = require(n, p, "point");
+      r.kl_shell = name;
+      r.point = vec3(pt, join(p, "point"));
+      const auto [xi, eta] =
+          kl.point_on_surface(pt, join(p, "point"), *r.point, kl_surface(m, *it));
+      r.xi = xi;
+      r.eta = eta;
+      return r;
+    }
     r.body = body_ref(require(n, p, "body"), join(p, "body"), false);
     read_point(n, p, r.point, r.point_local);
     return r;

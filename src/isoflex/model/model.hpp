@@ -193,11 +193,15 @@ struct ShellLoad {
 };
 
 // A named material point whose motion is recorded (probes.csv, summary.json).
+// On a Kirchhoff–Love shell (`kl_shell` set instead of `body`) the probe is the material point
+// of the mid-surface at the parameters (xi, eta) of `point`.
 struct Probe {
   std::string name;
   std::string body;
   std::optional<Vec3> point;        // global at t = 0
   std::optional<Vec3> point_local;  // body coordinates
+  std::string kl_shell;
+  double xi = 0.0, eta = 0.0;
   Source source;
 };
 
@@ -250,6 +254,57 @@ struct Surface {
   }
 };
 
+// --- Isogeometric Kirchhoff–Love shells (IGA-thesis ch. 3–4; docs/model-files.md "kl_shells") --
+
+// A Kirchhoff–Love shell patch on a surface of `surfaces`: its control points are the unknowns.
+struct KLShell {
+  std::string name;
+  std::string surface;  // name in Model::surfaces
+  double E = 0.0, nu = 0.0, thickness = 0.0, density = 0.0;
+  std::array<int, 2> quadrature = {0, 0};  // Gauss points per span; 0: degree + 1
+  Source source;
+};
+
+// Boundary conditions on control points (IGA-thesis §3.3, §4.2.3). On an edge (u0, u1, v0, v1),
+// "rows" are the control-point rows parallel to it: row 0 on the edge, row 1 next to it.
+//   fixed:     the given components of row 0 (homogeneous Dirichlet, eliminated);
+//   clamped:   the given components of rows 0 and 1 (no rotation about the edge);
+//   symmetry:  the component along the symmetry plane's normal of rows 0 and 1;
+//   displacement: a prescribed displacement ū(t) of the edge, by Lagrange multipliers
+//              (3.37)–(3.40), (4.25)–(4.27).
+// Without an edge, `control_points` names control points (fixed only).
+enum class KLSupportKind { fixed, clamped, symmetry, displacement };
+struct KLSupport {
+  std::string shell;
+  std::string edge;  // empty: control_points
+  std::vector<int> control_points;
+  KLSupportKind kind = KLSupportKind::fixed;
+  std::array<bool, 3> components = {true, true, true};
+  Vec3 normal = Vec3::Zero();                              // symmetry
+  std::array<std::string, 3> displacement{"0", "0", "0"};  // time functions
+  Source source;
+};
+
+// Loads on a Kirchhoff–Love shell (IGA-thesis (3.25)–(3.29)); every component a time function
+// of t (a load factor in static analysis). The model's gravity acts on a Kirchhoff–Love shell only
+// through a self_weight load, whose factor lets it be stepped like the other loads.
+enum class KLLoadKind { area_force, pressure, self_weight, edge_force, edge_moment, point_force };
+struct KLLoad {
+  std::string name;
+  std::string shell;
+  KLLoadKind kind = KLLoadKind::area_force;
+  std::array<std::string, 3> force{"0", "0", "0"};  // area_force, edge_force, point_force
+  std::string pressure = "0";                       // along the normal x_ξ × x_η
+  bool follower = false;                            // pressure on the current normal and area
+  std::string factor = "1";                         // self_weight: ρ t g × factor(t)
+  std::string moment = "0";                         // edge_moment, per unit length, about axis
+  Vec3 axis = Vec3::Zero();                         // edge_moment, unit, fixed in space
+  std::string edge;                                 // edge_force, edge_moment
+  Vec3 point = Vec3::Zero();                        // point_force, a point on the surface
+  double xi = 0.0, eta = 0.0;                       // point_force, its projection
+  Source source;
+};
+
 enum class Formulation { constrained, nullspace, reparametrized };
 
 struct Solver {
@@ -285,6 +340,9 @@ struct Model {
   std::vector<ShellLoad> shell_loads;
   std::vector<Probe> probes;
   std::vector<Surface> surfaces;
+  std::vector<KLShell> kl_shells;
+  std::vector<KLSupport> kl_supports;
+  std::vector<KLLoad> kl_loads;
   Solver solver;
   Output output;
 };

@@ -1,0 +1,342 @@
+// KLShellPatch: construction (checks, pre-evaluation of the reference geometry, fixed pattern,
+// constant mass) and assembly of energy, internal force and tangent over the knot-span elements
+// (IGA-thesis §4.3, (4.22)–(4.24); the point kernel is kl_shell_point.*).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "isoflex/elements/kl_shell_patch_impl.hpp"
+#include "isoflex/geometry/element_basis.hpp"
+
+namespace isoflex::elements {
+
+namespace {
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+[[noreturn]] void fail(const std::string& msg) {
+  throw std::invalid_argument("KLShellPatch: " + msg);
+}
+
+kl::BasisView view(const geometry::ElementBasis& eb, int g) {
+  return {eb.values.data() + 6 * static_cast<std::ptrdiff_t>(eb.row_stride) * g, eb.n_functions,
+          eb.row_stride, 1};
+}
+
+// Local residual of one element, 3n ≤ 108 entries.
+using LocalVector =
+    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kl::kMaxFunctions, 1>;
+
+}  // namespace
+
+VecX KLShellPatch::Impl::reference_positions() const {
+  VecX X(3 * static_cast<Eigen::Index>(ref.points.size()));
+  for (std::size_t i = 0; i < ref.points.size(); ++i) X.segment<3>(3 * i) = ref.points[i];
+  return X;
+}
+
+void KLShellPatch::Impl::gather(const VecX& x, int e, kl::LocalPoints& xl) const {
+  xl.resize(3, n_fun);
+  const int* c = conn.data() + static_cast<std::size_t>(e) * n_fun;
+  for (int k = 0; k < n_fun; ++k) xl.col(k) = x.segment<3>(3 * c[k]);
+}
+
+void KLShellPatch::Impl::check_size(const VecX& x, const char* what) const {
+  const auto n = 3 * static_cast<Eigen::Index>(ref.points.size());
+  if (x.size() != n)
+    fail(std::string(what) + ": x has " + std::to_string(x.size()) + " entries, expected " +
+         std::to_string(n) + " (3 per control point)");
+  if (!x.allFinite()) fail(std::string(what) + ": x is not finite");
+}
+
+KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection section, int rule_u,
+                           int rule_v) {
+  reference.validate();
+  const int p = reference.degree_u(), q = reference.degree_v();
+  if (p < 2 || q < 2)
+    fail("degree (" + std::to_string(p) + ", " + std::to_string(q) +
+         "): a Kirchhoff–Love shell needs degree ≥ 2 in both directions (C¹, second derivatives)");
+  if ((p + 1) * (q + 1) > kl::kMaxFunctions)
+    fail("degree (" + std::to_string(p) + ", " + std::to_string(q) +
+         "): (p+1)(q+1) = " + std::to_string((p + 1) * (q + 1)) + " > " +
+         std::to_string(kl::kMaxFunctions) + " functions per element");
+  if (!(section.young > 0.0) || !std::isfinite(section.young))
+    fail("Young's modulus must be positive, got " + num(section.young));
+  if (!(section.poisson > -1.0 && section.poisson < 0.5))
+    fail("Poisson's ratio must lie in (-1, 0.5), got " + num(section.poisson));
+  if (!(section.thickness > 0.0) || !std::isfinite(section.thickness))
+    fail("thickness must be positive, got " + num(section.thickness));
+  if (!(section.density >= 0.0) || !std::isfinite(section.density))
+    fail("density must be >= 0, got " + num(section.density));
+  if (rule_u < 0 || rule_v < 0)
+    fail("Gauss points per span must be >= 0 (0 = degree + 1), got " + std::to_string(rule_u) +
+         ", " + std::to_string(rule_v));
+
+  auto im = std::make_shared<Impl>();
+  Impl& m = *im;
+  m.ref = std::move(reference);
+  m.sec = section;
+  m.rule_u = geometry::gauss_legendre(rule_u > 0 ? rule_u : p + 1);
+  m.rule_v = geometry::gauss_legendre(rule_v > 0 ? rule_v : q + 1);
+  m.elems = geometry::surface_elements(m.ref);
+  m.n_fun = (p + 1) * (q + 1);
+  m.n_qp = m.rule_u.size() * m.rule_v.size();
+  const int ne = static_cast<int>(m.elems.size());
+  const int ncp = static_cast<int>(m.ref.points.size());
+
+  // Pre-evaluation of the reference geometry (IGA-thesis §6.2.2) and the connectivity.
+  m.points.resize(static_cast<std::size_t>(ne) * m.n_qp);
+  m.conn.resize(static_cast<std::size_t>(ne) * m.n_fun);
+  const VecX X = m.reference_positions();
+  geometry::ElementBasis eb;
+  kl::LocalPoints Xl;
+  for (int e = 0; e < ne; ++e) {
+    const auto& el = m.elems[e];
+    geometry::element_basis(m.ref, el, m.rule_u, m.rule_v, eb);
+    for (int k = 0; k < m.n_fun; ++k) m.conn[e * m.n_fun + k] = eb.global_index(m.ref, k);
+    m.gather(X, e, Xl);
+    const double jac = 0.25 * (el.u1 - el.u0) * (el.v1 - el.v0);
+    for (int g = 0; g < m.n_qp; ++g) {
+      const int i = g % eb.n_u, j = g / eb.n_u;
+      const double w = m.rule_u.weights[i] * m.rule_v.weights[j] * jac;
+      kl::ReferencePoint& r = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
+      r = kl::reference_point(view(eb, g), Xl, w, section.young, section.poisson);
+      if (!(r.J0 > 1e-12 * r.A1.norm() * r.A2.norm()))
+        fail("degenerate reference geometry at (xi, eta) = (" + num(eb.xi[i]) + ", " +
+             num(eb.eta[j]) + "): |A1 x A2| = " + num(r.J0));
+    }
+  }
+
+  // The fixed pattern: control points A, B sharing an element, all 3 × 3 blocks.
+  std::vector<std::vector<int>> nbr(ncp);
+  for (int e = 0; e < ne; ++e) {
+    const int* c = m.conn.data() + static_cast<std::size_t>(e) * m.n_fun;
+    for (int l = 0; l < m.n_fun; ++l)
+      for (int k = 0; k < m.n_fun; ++k) nbr[c[l]].push_back(c[k]);
+  }
+  std::size_t nnz = 0;
+  for (auto& v : nbr) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    nnz += 9 * v.size();
+  }
+  if (nnz > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    fail("pattern too large (" + std::to_string(nnz) + " non-zeros)");
+  const int n = 3 * ncp;
+  m.pattern = SpMat(n, n);
+  m.pattern.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  m.col_nnz.resize(ncp);
+  std::vector<int> col_start(ncp);
+  {
+    int* outer = m.pattern.outerIndexPtr();
+    int* inner = m.pattern.innerIndexPtr();
+    int pos = 0;
+    for (int B = 0; B < ncp; ++B) {
+      col_start[B] = pos;
+      m.col_nnz[B] = 3 * static_cast<int>(nbr[B].size());
+      for (int c = 0; c < 3; ++c) {
+        outer[3 * B + c] = pos;
+        for (int A : nbr[B])
+          for (int i = 0; i < 3; ++i) inner[pos++] = 3 * A + i;
+      }
+    }
+    outer[n] = pos;
+    std::fill_n(m.pattern.valuePtr(), nnz, 0.0);
+  }
+  m.block_pos.resize(static_cast<std::size_t>(ne) * m.n_fun * m.n_fun);
+  for (int e = 0; e < ne; ++e) {
+    const int* c = m.conn.data() + static_cast<std::size_t>(e) * m.n_fun;
+    for (int l = 0; l < m.n_fun; ++l) {
+      const auto& v = nbr[c[l]];
+      for (int k = 0; k < m.n_fun; ++k) {
+        const auto r = std::lower_bound(v.begin(), v.end(), c[k]) - v.begin();
+        m.block_pos[(static_cast<std::size_t>(e) * m.n_fun + l) * m.n_fun + k] =
+            col_start[c[l]] + 3 * static_cast<int>(r);
+      }
+    }
+  }
+
+  // Constant consistent mass (IGA-thesis (4.24)): M_AB = 2ε ρ ∫ R_A R_B ν₀ dϑ ⊗ I₃, 2ε = t.
+  m.mass = m.pattern;
+  const double rho_t = section.density * section.thickness;
+  double* val = m.mass.valuePtr();
+  for (int e = 0; e < ne; ++e) {
+    geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
+    const int* c = m.conn.data() + static_cast<std::size_t>(e) * m.n_fun;
+    for (int g = 0; g < m.n_qp; ++g) {
+      const kl::BasisView R = view(eb, g);
+      const double dA = m.points[static_cast<std::size_t>(e) * m.n_qp + g].dA * rho_t;
+      for (int l = 0; l < m.n_fun; ++l) {
+        const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * m.n_fun + l) * m.n_fun;
+        const int stride = m.col_nnz[c[l]];
+        for (int k = 0; k < m.n_fun; ++k) {
+          const double mkl = dA * (R(0, k) * R(0, l));  // symmetric in k, l bit for bit
+          for (int i = 0; i < 3; ++i) val[bp[k] + i * stride + i] += mkl;
+        }
+      }
+    }
+  }
+  impl_ = std::move(im);
+}
+
+const geometry::NurbsSurface& KLShellPatch::reference() const {
+  return impl_->ref;
+}
+const KLShellSection& KLShellPatch::section() const {
+  return impl_->sec;
+}
+int KLShellPatch::control_points() const {
+  return static_cast<int>(impl_->ref.points.size());
+}
+int KLShellPatch::elements() const {
+  return static_cast<int>(impl_->elems.size());
+}
+int KLShellPatch::quadrature_points() const {
+  return static_cast<int>(impl_->points.size());
+}
+std::size_t KLShellPatch::reference_bytes_per_point() const {
+  return sizeof(kl::ReferencePoint);
+}
+VecX KLShellPatch::reference_positions() const {
+  return impl_->reference_positions();
+}
+const SpMat& KLShellPatch::pattern() const {
+  return impl_->pattern;
+}
+const SpMat& KLShellPatch::mass() const {
+  return impl_->mass;
+}
+
+double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
+  const Impl& m = *impl_;
+  m.check_size(x, "energy");
+  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const bool linear = kin == KLKinematics::linear;
+  const VecX X = linear ? m.reference_positions() : VecX();
+  geometry::ElementBasis eb;
+  kl::LocalPoints xl, Xl;
+  kl::BBlocks B;
+  double U = 0.0;
+  for (int e = 0; e < static_cast<int>(m.elems.size()); ++e) {
+    geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
+    m.gather(x, e, xl);
+    if (linear) {
+      m.gather(X, e, Xl);
+      xl -= Xl;  // u = x − X
+    }
+    for (int g = 0; g < m.n_qp; ++g) {
+      const kl::BasisView R = view(eb, g);
+      const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
+      Vec3 Em, Ef;
+      if (linear) {
+        // Strains linearized about the reference: E = B(X) u (kl-shell.md §3).
+        const kl::CurrentPoint cur = kl::as_current(ref);
+        kl::b_matrix(R, cur, kl::normal_factors(cur), B);
+        Vec<6> E = Vec<6>::Zero();
+        for (int k = 0; k < m.n_fun; ++k) E.noalias() += B[k] * xl.col(k);
+        Em = E.head<3>();
+        Ef = E.tail<3>();
+      } else {
+        kl::strains(ref, kl::current_point(R, xl), Em, Ef);
+      }
+      const kl::Resultants s{t * (ref.C * Em), tb * (ref.C * Ef)};
+      U += ref.dA * kl::energy_density(Em, Ef, s);  // IGA-thesis (3.22)
+    }
+  }
+  return U;
+}
+
+VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) const {
+  const Impl& m = *impl_;
+  m.check_size(x, "internal_force");
+  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const bool linear = kin == KLKinematics::linear;
+  const int nf = m.n_fun;
+  const VecX X = linear ? m.reference_positions() : VecX();
+  VecX r = VecX::Zero(x.size());
+  MatX Ke;
+  if (K) {
+    const SpMat& P = m.pattern;
+    const bool same =
+        K->rows() == P.rows() && K->cols() == P.cols() && K->isCompressed() &&
+        K->nonZeros() == P.nonZeros() &&
+        std::equal(P.outerIndexPtr(), P.outerIndexPtr() + P.outerSize() + 1, K->outerIndexPtr());
+    if (!same) *K = P;
+    std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
+    Ke.resize(3 * nf, 3 * nf);
+  }
+  geometry::ElementBasis eb;
+  kl::LocalPoints xl, Xl;
+  kl::BBlocks B;
+  LocalVector re(3 * nf);
+  for (int e = 0; e < static_cast<int>(m.elems.size()); ++e) {
+    geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
+    m.gather(x, e, xl);
+    if (linear) {
+      m.gather(X, e, Xl);
+      xl -= Xl;  // u = x − X
+    }
+    re.setZero();
+    if (K) Ke.setZero();
+    for (int g = 0; g < m.n_qp; ++g) {
+      const kl::BasisView R = view(eb, g);
+      const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
+      kl::Resultants s;
+      if (linear) {
+        // r = K_lin (x − X), K_lin = ∫ B(X)ᵀ D B(X) dA (kl-shell.md §3).
+        const kl::CurrentPoint cur = kl::as_current(ref);
+        kl::b_matrix(R, cur, kl::normal_factors(cur), B);
+        Vec<6> E = Vec<6>::Zero();
+        for (int k = 0; k < nf; ++k) E.noalias() += B[k] * xl.col(k);
+        s.n = t * (ref.C * E.head<3>());
+        s.m = tb * (ref.C * E.tail<3>());
+        if (K) kl::add_material_stiffness(B, nf, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C, Ke);
+      } else {
+        const kl::CurrentPoint cur = kl::current_point(R, xl);
+        const kl::NormalFactors nfac = kl::normal_factors(cur);
+        kl::b_matrix(R, cur, nfac, B);
+        Vec3 Em, Ef;
+        kl::strains(ref, cur, Em, Ef);
+        s.n = t * (ref.C * Em);  // S^m = C E^m (3.14), pre-integrated over the thickness
+        s.m = tb * (ref.C * Ef);
+        if (K) {
+          kl::add_stiffness(R, cur, nfac, B, s, ref.dA, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C,
+                            Ke);
+        }
+      }
+      // IGA-thesis (3.34)–(3.35): a(u, v) = ∫ (n·E^m_*(v) + m·E^f_*(v)) ν₀ dϑ.
+      Vec<6> S;
+      S << s.n, s.m;
+      S *= ref.dA;
+      for (int k = 0; k < nf; ++k) re.segment<3>(3 * k).noalias() += B[k].transpose() * S;
+    }
+    const int* c = m.conn.data() + static_cast<std::size_t>(e) * nf;
+    for (int k = 0; k < nf; ++k) r.segment<3>(3 * c[k]) += re.segment<3>(3 * k);
+    if (K) {
+      // Scatter by the precomputed positions; Ke holds the upper block triangle (k ≤ l).
+      double* val = K->valuePtr();
+      for (int l = 0; l < nf; ++l) {
+        const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * nf + l) * nf;
+        const int stride = m.col_nnz[c[l]];
+        for (int k = 0; k < nf; ++k) {
+          double* dst = val + bp[k];
+          for (int cc = 0; cc < 3; ++cc)
+            for (int i = 0; i < 3; ++i)
+              dst[cc * stride + i] +=
+                  k <= l ? Ke(3 * k + i, 3 * l + cc) : Ke(3 * l + cc, 3 * k + i);
+        }
+      }
+    }
+  }
+  return r;
+}
+
+}  // namespace isoflex::elements

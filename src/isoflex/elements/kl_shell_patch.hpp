@@ -1,0 +1,100 @@
+#pragma once
+// An isogeometric Kirchhoff–Love shell patch (IGA-thesis ch. 3–4): one NURBS surface, its control
+// points as point nodes (x ∈ R³ each, positions, so rigid motion is exact: IGA-thesis Rem. 3.2),
+// St. Venant–Kirchhoff plane stress in curvilinear components (3.15)–(3.17), membrane and bending
+// Green–Lagrange strains (3.9)–(3.12) with the exact normal, internal energy (3.22), residual and
+// analytic tangent (3.33)–(3.36) including the second variation of the normal, and the constant
+// consistent mass (4.24). Gauss quadrature per knot span; the reference geometry is evaluated once
+// per quadrature point (§6.2.2). Theory, conventions and deviations from the thesis:
+// docs/theory/kl-shell.md; point kernel: kl_shell_point.hpp.
+//
+// Layout: x ∈ R^{3·ncp}, control point i (NurbsSurface numbering i_u + n_u·i_v) at x[3i, 3i+3).
+#include <Eigen/SparseCore>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::elements {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+struct KLShellSection {
+  double young = 0.0;
+  double poisson = 0.0;
+  double thickness = 0.0;
+  double density = 0.0;  // mass per volume (mass matrix, self-weight)
+};
+
+// nonlinear: Green–Lagrange strains (3.9)–(3.12). linear: the strains linearized about the
+// reference configuration (small displacements), so the residual is K (x − X) with a constant K.
+enum class KLKinematics { nonlinear, linear };
+
+// Stress recovery at one parametric point (IGA-thesis §3.4).
+struct KLShellStress {
+  Vec3 point = Vec3::Zero();  // current mid-surface point
+  // Local Cartesian frame (3.47): e1 along the current a1, e2 in the tangent plane, e3 = a3.
+  Mat3 frame = Mat3::Identity();  // columns e1, e2, e3
+  // Membrane forces n (per unit length) and bending moments m (per unit length) in that frame,
+  // Voigt order (11, 22, 12) (3.47).
+  Vec3 n = Vec3::Zero(), m = Vec3::Zero();
+  // Cauchy stresses (11, 22, 12) in the frame at the top (+t/2, along a3) and bottom (−t/2)
+  // surfaces (3.44)–(3.46), their principal stresses (σ_I ≥ σ_II) and von Mises (3.48)–(3.50).
+  Vec3 sigma_top = Vec3::Zero(), sigma_bottom = Vec3::Zero();
+  Eigen::Vector2d principal_top = Eigen::Vector2d::Zero(),
+                  principal_bottom = Eigen::Vector2d::Zero();
+  double von_mises_top = 0.0, von_mises_bottom = 0.0;
+};
+
+class KLShellPatch {
+ public:
+  // rule_u, rule_v: Gauss points per knot span and direction; 0 = p + 1 (q + 1), the default.
+  // Throws std::invalid_argument for a degree < 2 in either direction (a Kirchhoff–Love shell
+  // needs C¹ inside the patch: second derivatives), more than 36 functions per element
+  // ((p+1)(q+1) > 36, the fixed-size kernel), a non-positive E, thickness or density < 0,
+  // ν outside (−1, 0.5), a negative rule, an invalid surface (NurbsSurface::validate), or a
+  // degenerate reference point (|A₁ × A₂| ≤ 10⁻¹² |A₁||A₂| at a quadrature point).
+  // Interior knots of multiplicity p (C⁰) are accepted but act as hinges (no bending coupling
+  // across them; bending strips are not built here).
+  KLShellPatch(geometry::NurbsSurface reference, KLShellSection section, int rule_u = 0,
+               int rule_v = 0);
+
+  const geometry::NurbsSurface& reference() const;
+  const KLShellSection& section() const;
+  int control_points() const;
+  int dofs() const { return 3 * control_points(); }
+  int elements() const;           // non-empty knot-span products
+  int quadrature_points() const;  // over the whole patch
+  // Memory of the pre-evaluated reference geometry per quadrature point, in bytes (§6.2.2; 304,
+  // docs/theory/kl-shell.md §6). Basis functions are not stored: they are re-evaluated per element
+  // and call by geometry::element_basis.
+  std::size_t reference_bytes_per_point() const;
+  // Reference control-point positions X, stacked (the x of the undeformed patch).
+  VecX reference_positions() const;
+
+  // Internal energy Π_int(x) (3.22). Throws std::invalid_argument if x.size() ≠ dofs() or x is
+  // not finite (also internal_force and stress).
+  double energy(const VecX& x, KLKinematics kin) const;
+  // Internal force r = ∂Π_int/∂x (3.33)–(3.34); if K is not null it receives the tangent
+  // ∂r/∂x (3.35)–(3.36) in the patch's fixed pattern (pattern(): the values are overwritten, the
+  // pattern is the same on every call, compressed). A K that already has the pattern (same size,
+  // compressed, same outer index) keeps its storage; any other K is replaced by a copy of it.
+  VecX internal_force(const VecX& x, KLKinematics kin, SpMat* K) const;
+  // The fixed sparsity pattern of K (3ncp × 3ncp, every pair of control points sharing an
+  // element, all 3 × 3 blocks), values zero, compressed.
+  const SpMat& pattern() const;
+  // Consistent mass (4.24), ρ t ∫ R_A R_B dA ⊗ I₃, computed once (constant).
+  const SpMat& mass() const;
+  // Stress recovery at the parametric point (ξ, η) (throws std::invalid_argument outside the
+  // parameter domain or for NaN). For KLKinematics::linear the frame and the metric are the
+  // reference ones (small displacements; point is still the current mid-surface point).
+  KLShellStress stress(const VecX& x, double xi, double eta, KLKinematics kin) const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+};
+
+}  // namespace isoflex::elements

@@ -1,0 +1,36 @@
+#pragma once
+// Private state of KLShellPatch, shared by its translation units (assembly: kl_shell_patch.cpp,
+// stress recovery: kl_shell_stress.cpp). Not part of the public interface.
+#include <string>
+#include <vector>
+
+#include "isoflex/elements/kl_shell_patch.hpp"
+#include "isoflex/elements/kl_shell_point.hpp"
+#include "isoflex/geometry/quadrature.hpp"
+
+namespace isoflex::elements {
+
+struct KLShellPatch::Impl {
+  geometry::NurbsSurface ref;
+  KLShellSection sec;
+  geometry::GaussRule rule_u, rule_v;
+  std::vector<geometry::SurfaceElement> elems;
+  int n_fun = 0;  // (p+1)(q+1), local functions per element
+  int n_qp = 0;   // quadrature points per element
+  // Pre-evaluated reference geometry (§6.2.2), point g of element e at e·n_qp + g.
+  std::vector<kl::ReferencePoint> points;
+  // Global control point of local function k of element e at e·n_fun + k.
+  std::vector<int> conn;
+  // Assembly positions in the compressed pattern: entry (3A + i, 3B + c) of K, A = conn(e, k),
+  // B = conn(e, l), is valuePtr()[block_pos[(e·n_fun + l)·n_fun + k] + c·col_nnz[B] + i].
+  std::vector<int> block_pos;
+  std::vector<int> col_nnz;  // non-zeros of each of the three columns of control point B
+  SpMat pattern, mass;
+
+  VecX reference_positions() const;
+  // Local control points of element e taken from x (3·ncp).
+  void gather(const VecX& x, int e, kl::LocalPoints& xl) const;
+  void check_size(const VecX& x, const char* what) const;
+};
+
+}  // namespace isoflex::elements

@@ -1,0 +1,99 @@
+#pragma once
+// The quadrature-point kernel of the isogeometric Kirchhoff–Love shell (IGA-thesis §3.2, §4.3;
+// derivations and the matrix forms used here: docs/theory/kl-shell.md). One point, its
+// (p+1)(q+1) ≤ kKLMaxFunctions rational basis functions with first and second derivatives, the
+// pre-evaluated reference geometry (§6.2.2) and the local control points; out come the strains,
+// the energy density, the resultants, the strain–displacement matrix (first variations) and the
+// geometric stiffness (second variations, incl. the second variation of the normal a₃).
+//
+// Everything is fixed size or fixed maximum size (no heap allocation): the patch calls these once
+// per quadrature point of every element in every residual/tangent evaluation.
+#include <array>
+#include <cstddef>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::elements::kl {
+
+// Largest number of basis functions per element, (p+1)(q+1): p = q = 5.
+inline constexpr int kMaxFunctions = 36;
+
+// Read-only view of the 6 × n basis matrix of one point (rows R, R_ξ, R_η, R_ξξ, R_ξη, R_ηη,
+// columns the local functions), entry (d, k) at data[d·row_stride + k·col_stride]: this covers
+// geometry::ElementBasis (row-major, col_stride 1) and geometry::SurfaceBasis (column-major 6 × n,
+// row_stride 1, col_stride 6) without copying.
+struct BasisView {
+  const double* data = nullptr;
+  int n = 0;
+  std::ptrdiff_t row_stride = 0, col_stride = 0;
+  double operator()(int d, int k) const { return data[d * row_stride + k * col_stride]; }
+};
+
+// Local control points of one element: column k is the control point of local function k.
+using LocalPoints = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, kMaxFunctions>;
+
+// The reference (undeformed) geometry of one quadrature point, evaluated once (§6.2.2).
+// Voigt order of every 3-vector of components: (11, 22, 12).
+struct ReferencePoint {
+  Vec3 A1, A2, A3;     // covariant base vectors ∂_α c₀ and the unit normal n₀ (3.5)
+  Vec3 X11, X22, X12;  // second derivatives ∂_αβ c₀ (linearized bending strain, kl-shell.md §3)
+  Vec3 A_cov;          // covariant metric A_αβ = A_α·A_β (3.11)
+  Vec3 A_con;          // contravariant metric A^{αβ}, the inverse of A_αβ (3.15)
+  Vec3 B;              // curvature B_αβ = ∂_αβ c₀ · n₀ (3.12)
+  Mat3 C;              // plane-stress material matrix in curvilinear components (3.15)–(3.17),
+                       // scaled to the standard plane-stress tensor (kl-shell.md §2)
+  double J0 = 0.0;     // |A₁ × A₂| = ν₀ (3.22)
+  double dA = 0.0;     // J0 × quadrature weight (parameter-space weight incl. the span Jacobian)
+};
+
+// Reference quantities at one point from the basis and the reference control points X (local),
+// with quadrature weight w (0 for a point that is not a quadrature point). C uses young, poisson.
+// J0 is returned as computed; the caller decides whether it is degenerate.
+ReferencePoint reference_point(const BasisView& R, const LocalPoints& X, double w, double young,
+                               double poisson);
+
+// The current geometry at one point (4.20)–(4.21): a_α, a_αβ, ã₃ = a₁ × a₂, j = |ã₃|, a₃ = ã₃/j.
+struct CurrentPoint {
+  Vec3 a1, a2, a11, a22, a12, a3;
+  double j = 0.0;
+};
+CurrentPoint current_point(const BasisView& R, const LocalPoints& x);
+// The reference point seen as a current point (a_α = A_α, …), for the linearized kinematics.
+CurrentPoint as_current(const ReferencePoint& ref);
+
+// Green–Lagrange membrane and bending strains in Voigt form (E₁₁, E₂₂, 2E₁₂) (3.11), (3.12),
+// (3.16).
+void strains(const ReferencePoint& ref, const CurrentPoint& cur, Vec3& Em, Vec3& Ef);
+
+// The strain–displacement matrix: for local function k the 6 × 3 block B_k = ∂(E^m; E^f)/∂x_k, the
+// first variations E^m_*, E^f_* of (3.33) with n^*(v) written as da₃/dx_k (kl-shell.md §4).
+using BBlocks = std::array<Mat<6, 3>, kMaxFunctions>;
+// The two matrices with da₃/dx_k = R_k,ξ M₁ + R_k,η M₂: M₁ = −P [a₂]ₓ / j, M₂ = P [a₁]ₓ / j,
+// P = I − a₃a₃ᵀ (kl-shell.md §4).
+struct NormalFactors {
+  Mat3 M1, M2;
+};
+NormalFactors normal_factors(const CurrentPoint& cur);
+void b_matrix(const BasisView& R, const CurrentPoint& cur, const NormalFactors& nf, BBlocks& B);
+
+// Resultants n = t C E^m, m = t³/12 C E^f (contravariant, per unit reference length; kl-shell.md
+// §2), the work conjugates of E^m, E^f in the energy density.
+struct Resultants {
+  Vec3 n, m;
+};
+
+// Energy density per unit reference area ½ (n·E^m + m·E^f) (3.22).
+double energy_density(const Vec3& Em, const Vec3& Ef, const Resultants& s);
+
+// Adds, for the functions k ≤ l (upper block triangle), w·(B_kᵀ D B_l) to K (3n × 3n, block
+// (k, l) at rows 3k, cols 3l), with Cm = w t C and Cb = w t³/12 C (the material part of (3.36)).
+void add_material_stiffness(const BBlocks& B, int n, const Mat3& Cm, const Mat3& Cb, MatX& K);
+
+// Adds, for k ≤ l, the whole tangent of (3.36) at a current point: the material part as above
+// and the geometric part n·E^m_** + m·E^f_** with the second variation of the normal n^** (the
+// factored matrix form of kl-shell.md §5); s are the resultants, w the weight dA.
+void add_stiffness(const BasisView& R, const CurrentPoint& cur, const NormalFactors& nf,
+                   const BBlocks& B, const Resultants& s, double w, const Mat3& Cm, const Mat3& Cb,
+                   MatX& K);
+
+}  // namespace isoflex::elements::kl

@@ -1,0 +1,198 @@
+#include "isoflex/integrate/kl_boundary_conditions.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include "isoflex/geometry/quadrature.hpp"
+
+namespace isoflex::integrate {
+
+namespace {
+
+const char* component_name(int k) {
+  return k == 0 ? "x" : (k == 1 ? "y" : "z");
+}
+
+// One quadrature point on an edge: weight × |∂_θ c₀|, the reference point, the non-zero basis.
+struct EdgePoint {
+  double w = 0.0;
+  Vec3 X = Vec3::Zero();
+  std::vector<std::pair<int, double>> R;  // (control point, R_A)
+};
+
+std::vector<EdgePoint> edge_quadrature(const geometry::NurbsSurface& s, PatchEdge e, int n_points) {
+  const bool along_v = loads::edge_runs_along_v(e);
+  const geometry::KnotVector& kv = along_v ? s.v : s.u;
+  const double fixed = loads::edge_parameter(s, e);
+  const geometry::GaussRule rule =
+      geometry::gauss_legendre(n_points > 0 ? n_points : kv.degree() + 2);
+  std::vector<EdgePoint> out;
+  for (const auto& el : geometry::span_elements(kv))
+    for (const auto& qp : geometry::span_quadrature(el, rule)) {
+      const double xi = along_v ? fixed : qp.xi, eta = along_v ? qp.xi : fixed;
+      const geometry::SurfaceBasis B = geometry::surface_basis(s, xi, eta);
+      EdgePoint p;
+      Vec3 t = Vec3::Zero();
+      for (int k = 0; k < static_cast<int>(B.R.cols()); ++k) {
+        const int A = B.global_index(s, k);
+        const Vec3& P = s.points[static_cast<std::size_t>(A)];
+        p.X += B.R(0, k) * P;
+        t += B.R(along_v ? 2 : 1, k) * P;
+        if (B.R(0, k) != 0.0) p.R.emplace_back(A, B.R(0, k));
+      }
+      p.w = qp.weight * t.norm();
+      out.push_back(std::move(p));
+    }
+  return out;
+}
+
+}  // namespace
+
+KLBoundaryConditions::KLBoundaryConditions(geometry::NurbsSurface reference)
+    : s_(std::move(reference)) {
+  s_.validate();
+}
+
+KLBoundaryConditions& KLBoundaryConditions::fix_control_point(int cp, unsigned components) {
+  if (cp < 0 || cp >= static_cast<int>(s_.points.size()))
+    throw std::invalid_argument(fmt::format(
+        "KLBoundaryConditions: control point {} outside [0, {})", cp, s_.points.size()));
+  for (int k = 0; k < 3; ++k)
+    if (components & (1u << k)) fixed_.push_back({3 * cp + k, {}});
+  return *this;
+}
+
+KLBoundaryConditions& KLBoundaryConditions::fix_edge(PatchEdge e, unsigned components, int rows) {
+  for (int r = 0; r < rows; ++r)
+    for (int cp : loads::edge_control_points(s_, e, r)) fix_control_point(cp, components);
+  return *this;
+}
+
+KLBoundaryConditions& KLBoundaryConditions::clamp_edge(PatchEdge e, unsigned components) {
+  return fix_edge(e, components, 2);
+}
+
+KLBoundaryConditions& KLBoundaryConditions::symmetry_edge(PatchEdge e, const Vec3& n) {
+  const double len = n.norm();
+  if (!(len > 0.0) || !n.allFinite())
+    throw std::invalid_argument("KLBoundaryConditions::symmetry_edge: the plane normal is zero");
+  const Vec3 u = n / len;
+  int axis = -1;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(u(k)) >= 1.0 - 1e-12) axis = k;
+  if (axis >= 0) return fix_edge(e, 1u << axis, 2);
+  for (int r = 0; r < 2; ++r)
+    for (int cp : loads::edge_control_points(s_, e, r))
+      plane_rows_.push_back(
+          {cp, u, fmt::format("symmetry {} row {} control point {}", loads::to_string(e), r, cp)});
+  return *this;
+}
+
+KLBoundaryConditions& KLBoundaryConditions::prescribe_control_point(
+    int cp, int component, std::function<double(double)> u) {
+  if (cp < 0 || cp >= static_cast<int>(s_.points.size()) || component < 0 || component > 2)
+    throw std::invalid_argument(fmt::format(
+        "KLBoundaryConditions: control point {} / component {} out of range", cp, component));
+  fixed_.push_back({3 * cp + component, std::move(u)});
+  return *this;
+}
+
+KLBoundaryConditions& KLBoundaryConditions::prescribe_edge(
+    PatchEdge e, std::function<Vec3(double, const Vec3&)> u, unsigned components, int n_points) {
+  if (!u) throw std::invalid_argument("KLBoundaryConditions::prescribe_edge: no function");
+  weak_.push_back({e, std::move(u), components, n_points});
+  return *this;
+}
+
+LinearConstraints KLBoundaryConditions::constraints() const {
+  const int n = dofs();
+  LinearConstraints out;
+  // Later entries win (a prescribed value replaces a homogeneous one for the same dof).
+  for (const Fixed& f : fixed_) out.eliminate(f.dof, f.value);
+  std::vector<char> eliminated(static_cast<std::size_t>(n), 0);
+  for (int d : out.eliminated) eliminated[static_cast<std::size_t>(d)] = 1;
+
+  std::vector<Eigen::Triplet<double>> trip;
+  int m = 0;
+  // Symmetry planes with a general normal: n·(x_A − X_A) = 0 (rhs 0).
+  for (const PlaneRow& r : plane_rows_) {
+    bool any = false;
+    for (int k = 0; k < 3; ++k)
+      if (r.n(k) != 0.0 && !eliminated[static_cast<std::size_t>(3 * r.cp + k)]) any = true;
+    if (!any) continue;  // already fixed by elimination
+    for (int k = 0; k < 3; ++k)
+      if (r.n(k) != 0.0) trip.emplace_back(m, 3 * r.cp + k, r.n(k));
+    out.row_labels.push_back(r.label);
+    ++m;
+  }
+  const int m_plane = m;
+
+  // Weak edges: row (edge, function j, component k) = Σ_q w_q R_j R_A (x_{A,k} − X_{A,k}).
+  struct WeakRow {
+    int edge;  // index into weak_
+    int cp;
+    int k;
+  };
+  auto rows = std::make_shared<std::vector<WeakRow>>();
+  auto points = std::make_shared<std::vector<std::vector<EdgePoint>>>();
+  std::vector<char> owned(static_cast<std::size_t>(n), 0);
+  for (std::size_t w = 0; w < weak_.size(); ++w) {
+    const WeakEdge& we = weak_[w];
+    points->push_back(edge_quadrature(s_, we.edge, we.n_points));
+    const std::vector<EdgePoint>& pts = points->back();
+    for (int k = 0; k < 3; ++k) {
+      if (!(we.components & (1u << k))) continue;
+      for (int j : loads::edge_control_points(s_, we.edge, 0)) {
+        const auto dof = static_cast<std::size_t>(3 * j + k);
+        if (eliminated[dof] || owned[dof]) continue;  // removed from Q_h, (4.26)
+        owned[dof] = 1;
+        // Row: ∫ R_j R_A ν dθ over the edge.
+        std::vector<std::pair<int, double>> row;
+        for (const EdgePoint& p : pts) {
+          double Rj = 0.0;
+          for (const auto& [A, R] : p.R)
+            if (A == j) Rj = R;
+          if (Rj == 0.0) continue;
+          for (const auto& [A, R] : p.R) row.emplace_back(3 * A + k, p.w * Rj * R);
+        }
+        for (const auto& [col, v] : row) trip.emplace_back(m, col, v);
+        rows->push_back({static_cast<int>(w), j, k});
+        out.row_labels.push_back(fmt::format("prescribed edge {} {} function of control point {}",
+                                             loads::to_string(we.edge), component_name(k), j));
+        ++m;
+      }
+    }
+  }
+  out.C.resize(m, n);
+  out.C.setFromTriplets(trip.begin(), trip.end());
+  out.C.makeCompressed();
+  if (!rows->empty()) {
+    // d(t)_row = ∫ R_j ū_k(t, X) ν dθ; the plane rows have d = 0.
+    auto edges = std::make_shared<std::vector<WeakEdge>>(weak_);
+    out.rhs = [rows, points, edges, m, m_plane](double t) {
+      VecX d = VecX::Zero(m);
+      // ū at every quadrature point once per call.
+      std::vector<std::vector<Vec3>> ubar(edges->size());
+      for (std::size_t w = 0; w < edges->size(); ++w)
+        for (const EdgePoint& p : (*points)[w]) ubar[w].push_back((*edges)[w].u(t, p.X));
+      for (std::size_t r = 0; r < rows->size(); ++r) {
+        const WeakRow& wr = (*rows)[r];
+        const auto& pts = (*points)[static_cast<std::size_t>(wr.edge)];
+        double acc = 0.0;
+        for (std::size_t q = 0; q < pts.size(); ++q)
+          for (const auto& [A, R] : pts[q].R)
+            if (A == wr.cp) acc += pts[q].w * R * ubar[static_cast<std::size_t>(wr.edge)][q](wr.k);
+        d(m_plane + static_cast<int>(r)) = acc;
+      }
+      return d;
+    };
+  }
+  return out;
+}
+
+}  // namespace isoflex::integrate

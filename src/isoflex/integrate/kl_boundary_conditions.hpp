@@ -1,0 +1,91 @@
+#pragma once
+// Dirichlet boundary conditions of a Kirchhoff–Love shell patch whose unknowns are the control
+// point positions x ∈ R^{3·ncp} (elements::KLShellPatch), turned into LinearConstraints for the
+// static Newton solver (static_newton.hpp). docs/theory/kl-static.md §2.
+//
+// • Homogeneous conditions (IGA-thesis §4.2.3) eliminate control-point components: x_{A,k} =
+// X_{A,k}.
+//   With open knot vectors the boundary curve depends only on row 0 of the edge, so fixing row 0
+//   fixes the edge (pinned / simply supported in those components); fixing rows 0 and 1 also
+//   fixes the tangent across the edge, ∂_n c = Σ R_A,n x_A: a clamped edge.
+// • A symmetry plane through an edge with unit normal n fixes n·(x_A − X_A) for rows 0 and 1 (no
+//   normal displacement, no rotation out of the plane). If n is a coordinate axis the component is
+//   eliminated; otherwise each control point gets one multiplier row n·(x_A − X_A) = 0.
+// • A prescribed displacement ū(t, X) of an edge (a moving boundary) is imposed weakly by
+//   Lagrange multipliers on the edge (IGA-thesis (3.37)–(3.40), (4.25)–(4.27)):
+//       ∫_Γ Φ_j · (u_h − ū) |∂_θ c₀| dθ = 0,   u_h = Σ_A R_A (x_A − X_A),
+//   with the multiplier basis Φ_j = R_j|_Γ e_k, j the control points of row 0 (the trace of the
+//   displacement space on the edge, the univariate NURBS space of (4.26)). Then G restricted to
+//   the edge dofs is the Gram (mass) matrix of that trace basis, symmetric positive definite: the
+//   rows are independent, [K Gᵀ; G 0] is non-singular whenever K is positive definite on ker G,
+//   and the constraint makes u_h|_Γ the L²(Γ) projection of ū onto the trace space (exact for ū
+//   in it). Multipliers in the trace space itself are the stable choice for boundary-fitted
+//   constraints; a richer space would have more multipliers than edge dofs (LBB violated). As in
+//   (4.26), functions whose control-point component is eliminated, or already
+//   owned by an earlier prescribed edge (a shared corner), are dropped, so the rows stay
+//   independent.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/integrate/static_newton.hpp"
+#include "isoflex/loads/patch_edge.hpp"
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::integrate {
+
+using loads::PatchEdge;
+
+// Components as a bit mask.
+enum Component : unsigned { kCompX = 1u, kCompY = 2u, kCompZ = 4u, kCompXYZ = 7u };
+
+class KLBoundaryConditions {
+ public:
+  // Throws std::invalid_argument for an invalid surface.
+  explicit KLBoundaryConditions(geometry::NurbsSurface reference);
+
+  // Homogeneous: x_{A,k} = X_{A,k} for the components in the mask.
+  KLBoundaryConditions& fix_control_point(int cp, unsigned components = kCompXYZ);
+  // Rows 0 … rows−1 of the edge (rows = 1: the edge itself).
+  KLBoundaryConditions& fix_edge(PatchEdge e, unsigned components = kCompXYZ, int rows = 1);
+  // Clamped: rows 0 and 1.
+  KLBoundaryConditions& clamp_edge(PatchEdge e, unsigned components = kCompXYZ);
+  // Symmetry plane with normal n (normalized here) containing the edge. Throws for |n| = 0.
+  KLBoundaryConditions& symmetry_edge(PatchEdge e, const Vec3& n);
+  // Eliminated, inhomogeneous: x_{A,k} = X_{A,k} + u(t) (k = 0, 1, 2).
+  KLBoundaryConditions& prescribe_control_point(int cp, int component,
+                                                std::function<double(double)> u);
+  // Weak (multiplier) prescribed displacement of an edge, u(t, X) with X the reference point of
+  // the edge; only the components in the mask. n_points: Gauss points per knot span, ≤ 0: p + 2.
+  KLBoundaryConditions& prescribe_edge(PatchEdge e, std::function<Vec3(double, const Vec3&)> u,
+                                       unsigned components = kCompXYZ, int n_points = 0);
+
+  // The eliminated dofs and the multiplier rows.
+  LinearConstraints constraints() const;
+  const geometry::NurbsSurface& reference() const { return s_; }
+  int dofs() const { return 3 * static_cast<int>(s_.points.size()); }
+
+ private:
+  struct Fixed {
+    int dof;
+    std::function<double(double)> value;
+  };
+  struct PlaneRow {
+    int cp;
+    Vec3 n;
+    std::string label;
+  };
+  struct WeakEdge {
+    PatchEdge edge;
+    std::function<Vec3(double, const Vec3&)> u;
+    unsigned components;
+    int n_points;
+  };
+  geometry::NurbsSurface s_;
+  std::vector<Fixed> fixed_;
+  std::vector<PlaneRow> plane_rows_;
+  std::vector<WeakEdge> weak_;
+};
+
+}  // namespace isoflex::integrate

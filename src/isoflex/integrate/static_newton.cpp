@@ -1,0 +1,413 @@
+#include "isoflex/integrate/static_newton.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "isoflex/integrate/energy_momentum.hpp"  // NewtonFailure
+#include "isoflex/solve/linear_solver.hpp"
+
+namespace isoflex::integrate {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double inf_norm(const VecX& v) {
+  return v.size() ? v.lpNorm<Eigen::Infinity>() : 0.0;
+}
+
+// Why one Newton iteration did not converge.
+struct NewtonOutcome {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0.0;
+  double scale = 0.0;
+  std::string reason;
+};
+
+}  // namespace
+
+void LinearConstraints::eliminate(int dof, std::function<double(double)> value) {
+  const auto it = std::lower_bound(eliminated.begin(), eliminated.end(), dof);
+  const auto pos = it - eliminated.begin();
+  if (eliminated_value.size() < eliminated.size()) eliminated_value.resize(eliminated.size());
+  if (it != eliminated.end() && *it == dof) {
+    eliminated_value[static_cast<std::size_t>(pos)] = std::move(value);
+    return;
+  }
+  eliminated.insert(it, dof);
+  eliminated_value.insert(eliminated_value.begin() + pos, std::move(value));
+}
+
+DofMap DofMap::build(int n_full, const std::vector<int>& eliminated) {
+  DofMap m;
+  m.n_full = n_full;
+  m.full_to_free.assign(static_cast<std::size_t>(n_full), 0);
+  for (int i : eliminated) {
+    if (i < 0 || i >= n_full)
+      throw std::invalid_argument(
+          fmt::format("DofMap: eliminated dof {} outside [0, {})", i, n_full));
+    m.full_to_free[static_cast<std::size_t>(i)] = -1;
+  }
+  for (int i = 0; i < n_full; ++i)
+    if (m.full_to_free[static_cast<std::size_t>(i)] == 0) {
+      m.full_to_free[static_cast<std::size_t>(i)] = static_cast<int>(m.free.size());
+      m.free.push_back(i);
+    }
+  return m;
+}
+
+struct StaticNewtonSolver::Impl {
+  StaticProblem problem;
+  LinearConstraints cons;
+  StaticSettings settings;
+  DofMap dofs;
+  int n = 0, nf = 0, m = 0;
+  SpMat Cf;  // C on the free dofs (m × nf)
+
+  // Reduction of K into the Newton matrix A (nf + m square), kept for K's pattern.
+  std::vector<int> key_outer, key_inner;
+  std::vector<int> value_map;       // K's value k → A's value index, −1 if eliminated
+  std::vector<double> base_values;  // A's values with the C blocks, zeros for K
+  SpMat A;
+  bool have_reduction = false;
+
+  solve::FixedPatternLDLT ldlt;
+  solve::FixedPatternLU lu;
+  int analyses_before = 0;
+
+  ResidualEvaluation ev;
+
+  void set_prescribed(VecX& x, double t) const {
+    for (std::size_t k = 0; k < cons.eliminated.size(); ++k) {
+      const int i = cons.eliminated[k];
+      const auto& f = cons.eliminated_value[k];
+      x(i) = problem.reference(i) + (f ? f(t) : 0.0);
+    }
+  }
+
+  VecX constraint_rhs(double t) const {
+    if (m == 0 || !cons.rhs) return VecX::Zero(m);
+    VecX d = cons.rhs(t);
+    if (d.size() != m)
+      throw std::invalid_argument(
+          fmt::format("LinearConstraints: rhs(t) has {} entries, expected {}", d.size(), m));
+    return d;
+  }
+
+  void build_reduction(const SpMat& K) {
+    key_outer.assign(K.outerIndexPtr(), K.outerIndexPtr() + K.outerSize() + 1);
+    key_inner.assign(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(static_cast<std::size_t>(K.nonZeros() + 2 * Cf.nonZeros()));
+    for (int j = 0; j < K.outerSize(); ++j) {
+      const int fj = dofs.full_to_free[static_cast<std::size_t>(j)];
+      if (fj < 0) continue;
+      for (SpMat::InnerIterator it(K, j); it; ++it) {
+        const int fi = dofs.full_to_free[static_cast<std::size_t>(it.row())];
+        if (fi >= 0) trip.emplace_back(fi, fj, 0.0);
+      }
+    }
+    for (int j = 0; j < Cf.outerSize(); ++j)
+      for (SpMat::InnerIterator it(Cf, j); it; ++it) {
+        trip.emplace_back(nf + static_cast<int>(it.row()), j, it.value());
+        trip.emplace_back(j, nf + static_cast<int>(it.row()), it.value());
+      }
+    A.resize(nf + m, nf + m);
+    A.setFromTriplets(trip.begin(), trip.end());
+    A.makeCompressed();
+    base_values.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
+    value_map.assign(static_cast<std::size_t>(K.nonZeros()), -1);
+    for (int j = 0; j < K.outerSize(); ++j) {
+      const int fj = dofs.full_to_free[static_cast<std::size_t>(j)];
+      if (fj < 0) continue;
+      const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[fj];
+      const int* end = A.innerIndexPtr() + A.outerIndexPtr()[fj + 1];
+      for (int k = K.outerIndexPtr()[j]; k < K.outerIndexPtr()[j + 1]; ++k) {
+        const int fi = dofs.full_to_free[static_cast<std::size_t>(K.innerIndexPtr()[k])];
+        if (fi < 0) continue;
+        const int* p = std::lower_bound(begin, end, fi);
+        value_map[static_cast<std::size_t>(k)] = static_cast<int>(p - A.innerIndexPtr());
+      }
+    }
+    have_reduction = true;
+  }
+
+  bool same_pattern(const SpMat& K) const {
+    if (!have_reduction) return false;
+    if (static_cast<std::size_t>(K.outerSize() + 1) != key_outer.size() ||
+        static_cast<std::size_t>(K.nonZeros()) != key_inner.size())
+      return false;
+    return std::equal(key_outer.begin(), key_outer.end(), K.outerIndexPtr()) &&
+           std::equal(key_inner.begin(), key_inner.end(), K.innerIndexPtr());
+  }
+
+  // A = [K_ff C_fᵀ; C_f 0] from the K in ev.
+  void assemble_matrix() {
+    SpMat& K = ev.K;
+    if (K.rows() != n || K.cols() != n)
+      throw std::invalid_argument(fmt::format("StaticProblem: tangent is {} x {}, expected {} x {}",
+                                              K.rows(), K.cols(), n, n));
+    if (!K.isCompressed()) K.makeCompressed();
+    if (!same_pattern(K)) build_reduction(K);
+    double* a = A.valuePtr();
+    std::copy(base_values.begin(), base_values.end(), a);
+    const double* kv = K.valuePtr();
+    for (std::size_t k = 0; k < value_map.size(); ++k)
+      if (value_map[k] >= 0) a[value_map[k]] += kv[k];
+  }
+
+  // The single place where the Newton matrix is factorized (to be swapped for another solver).
+  VecX linear_solve(const SpMat& M, const VecX& b) {
+    if (problem.symmetric && m == 0) {
+      try {
+        return ldlt.solve(M, b);
+      } catch (const std::runtime_error&) {
+        // Not positive definite (past a limit point, or a singular direction): pivoted LU.
+      }
+    }
+    return lu.solve(M, b);
+  }
+
+  void evaluate(const VecX& x, double t, bool with_tangent, LoadStepStats& st) {
+    const auto t0 = Clock::now();
+    problem.evaluate(x, t, with_tangent, ev);
+    if (ev.r.size() != n)
+      throw std::invalid_argument(
+          fmt::format("StaticProblem: residual has {} entries, expected {}", ev.r.size(), n));
+    if (with_tangent) assemble_matrix();
+    st.assembly_seconds += seconds_since(t0);
+  }
+
+  // Residual of the reduced/bordered system at (x, μ) from ev.r; also the convergence scale.
+  VecX reduced_residual(const VecX& x, const VecX& mu, double t, double& scale) const {
+    VecX R(nf + m);
+    VecX ctmu = VecX::Zero(n);
+    if (m > 0) ctmu = cons.C.transpose() * mu;
+    double reactions = inf_norm(ctmu);
+    for (int i = 0; i < n; ++i) {
+      const int fi = dofs.full_to_free[static_cast<std::size_t>(i)];
+      if (fi >= 0)
+        R(fi) = ev.r(i) + ctmu(i);
+      else
+        reactions = std::max(reactions, std::abs(ev.r(i)));
+    }
+    if (m > 0) R.tail(m) = cons.C * (x - problem.reference) - constraint_rhs(t);
+    scale = std::max({settings.force_floor, ev.load_norm, reactions});
+    return R;
+  }
+
+  // Newton at the load parameter t from (x, μ); x's eliminated dofs are set here.
+  NewtonOutcome newton(VecX& x, VecX& mu, double t, LoadStepStats& st) {
+    NewtonOutcome out;
+    set_prescribed(x, t);
+    const double xscale = std::max({inf_norm(x), inf_norm(problem.reference), 1e-300});
+    const int max_it = problem.linear ? 1 : settings.max_iterations;
+    for (int it = 0;; ++it) {
+      try {
+        evaluate(x, t, it < max_it, st);
+      } catch (const std::runtime_error& e) {
+        out.reason = fmt::format("evaluation failed: {}", e.what());
+        return out;
+      }
+      double scale = 0.0;
+      const VecX R = reduced_residual(x, mu, t, scale);
+      out.residual = inf_norm(R);
+      out.scale = scale;
+      out.iterations = it;
+      st.residual_history.push_back(out.residual);
+      if (!std::isfinite(out.residual)) {
+        out.reason = "non-finite residual";
+        return out;
+      }
+      if (out.residual <= settings.residual_tolerance * scale || out.residual == 0.0 ||
+          (problem.linear && it == 1)) {
+        out.converged = true;
+        return out;
+      }
+      if (it == max_it) {
+        out.reason = fmt::format("no convergence in {} iterations", it);
+        return out;
+      }
+      VecX dz;
+      const auto t0 = Clock::now();
+      try {
+        dz = linear_solve(A, -R);
+      } catch (const std::exception& e) {
+        st.solve_seconds += seconds_since(t0);
+        out.reason = fmt::format("linear solve failed at iteration {}: {}", it + 1, e.what());
+        return out;
+      }
+      st.solve_seconds += seconds_since(t0);
+      for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
+      if (m > 0) mu += dz.tail(m);
+      if (!problem.linear &&
+          inf_norm(dz.head(nf)) <= settings.increment_tolerance * std::max(xscale, inf_norm(x))) {
+        // Round-off-level correction: its error is its square; report the final residual.
+        try {
+          evaluate(x, t, false, st);
+        } catch (const std::runtime_error& e) {
+          out.reason = fmt::format("evaluation failed: {}", e.what());
+          return out;
+        }
+        out.residual = inf_norm(reduced_residual(x, mu, t, scale));
+        out.iterations = it + 1;
+        st.residual_history.push_back(out.residual);
+        out.converged = std::isfinite(out.residual);
+        if (!out.converged) out.reason = "non-finite residual";
+        return out;
+      }
+    }
+  }
+};
+
+StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints constraints,
+                                       StaticSettings settings)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& I = *impl_;
+  I.problem = std::move(problem);
+  I.cons = std::move(constraints);
+  I.settings = settings;
+  I.n = static_cast<int>(I.problem.reference.size());
+  if (!I.problem.evaluate) throw std::invalid_argument("StaticNewtonSolver: no evaluate function");
+  const StaticSettings& s = I.settings;
+  if (s.steps < 1 || !std::isfinite(s.t_end) || !(s.t_end > 0.0) || s.max_iterations < 1 ||
+      !(s.residual_tolerance >= 0.0) || !(s.increment_tolerance >= 0.0) || s.max_cuts < 0 ||
+      s.grow_after < 1 || !(s.force_floor >= 0.0))
+    throw std::invalid_argument(fmt::format(
+        "StaticNewtonSolver: bad settings (steps {}, t_end {}, max_iterations {}, residual "
+        "tolerance {}, increment tolerance {}, max_cuts {}, grow_after {}, force_floor {})",
+        s.steps, s.t_end, s.max_iterations, s.residual_tolerance, s.increment_tolerance, s.max_cuts,
+        s.grow_after, s.force_floor));
+  if (I.cons.eliminated_value.size() < I.cons.eliminated.size())
+    I.cons.eliminated_value.resize(I.cons.eliminated.size());
+  if (I.cons.eliminated_value.size() != I.cons.eliminated.size())
+    throw std::invalid_argument("LinearConstraints: more eliminated values than dofs");
+  if (!std::is_sorted(I.cons.eliminated.begin(), I.cons.eliminated.end()) ||
+      std::adjacent_find(I.cons.eliminated.begin(), I.cons.eliminated.end()) !=
+          I.cons.eliminated.end())
+    throw std::invalid_argument("LinearConstraints: eliminated dofs not sorted and unique");
+  I.dofs = DofMap::build(I.n, I.cons.eliminated);
+  I.nf = I.dofs.n_free();
+  if (I.cons.C.rows() == 0) I.cons.C.resize(0, I.n);
+  if (I.cons.C.cols() != I.n)
+    throw std::invalid_argument(
+        fmt::format("LinearConstraints: C has {} columns, expected {}", I.cons.C.cols(), I.n));
+  I.m = static_cast<int>(I.cons.C.rows());
+  I.cons.C.makeCompressed();
+  // C on the free columns.
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int j = 0; j < I.cons.C.outerSize(); ++j) {
+    const int fj = I.dofs.full_to_free[static_cast<std::size_t>(j)];
+    if (fj < 0) continue;
+    for (SpMat::InnerIterator it(I.cons.C, j); it; ++it)
+      if (it.value() != 0.0) trip.emplace_back(static_cast<int>(it.row()), fj, it.value());
+  }
+  I.Cf.resize(I.m, I.nf);
+  I.Cf.setFromTriplets(trip.begin(), trip.end());
+  I.Cf.makeCompressed();
+  VecX row_norm = VecX::Zero(I.m);
+  for (const auto& t : trip) row_norm(t.row()) += t.value() * t.value();
+  for (int r = 0; r < I.m; ++r)
+    if (row_norm(r) == 0.0) {
+      const std::string label = static_cast<std::size_t>(r) < I.cons.row_labels.size()
+                                    ? " (" + I.cons.row_labels[static_cast<std::size_t>(r)] + ")"
+                                    : std::string();
+      throw std::invalid_argument(fmt::format(
+          "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
+    }
+}
+
+StaticNewtonSolver::~StaticNewtonSolver() = default;
+StaticNewtonSolver::StaticNewtonSolver(StaticNewtonSolver&&) noexcept = default;
+StaticNewtonSolver& StaticNewtonSolver::operator=(StaticNewtonSolver&&) noexcept = default;
+
+const DofMap& StaticNewtonSolver::dofs() const {
+  return impl_->dofs;
+}
+const StaticSettings& StaticNewtonSolver::settings() const {
+  return impl_->settings;
+}
+
+StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
+  Impl& I = *impl_;
+  const StaticSettings& s = I.settings;
+  StaticResult res;
+  VecX x = I.problem.reference;
+  VecX mu = VecX::Zero(I.m);
+  I.set_prescribed(x, 0.0);
+  const double dt_nominal = s.t_end / s.steps;
+  double t = 0.0, dt = dt_nominal;
+  int cuts = 0, easy = 0;
+  double carried_wall = 0.0, carried_asm = 0.0, carried_solve = 0.0;
+  const int analyses0 = I.ldlt.analyses() + I.lu.analyses();
+  while (t < s.t_end) {
+    double dt_try = std::min(dt, s.t_end - t);
+    if (s.t_end - (t + dt_try) < 1e-12 * dt_nominal) dt_try = s.t_end - t;
+    const double t_try = t + dt_try;
+    LoadStepStats st;
+    st.step = static_cast<int>(res.steps.size()) + 1;
+    VecX x_try = x, mu_try = mu;
+    const auto t0 = Clock::now();
+    const NewtonOutcome out = I.newton(x_try, mu_try, t_try, st);
+    st.wall_seconds = seconds_since(t0);
+    if (!out.converged) {
+      carried_wall += st.wall_seconds;
+      carried_asm += st.assembly_seconds;
+      carried_solve += st.solve_seconds;
+      if (!s.adaptive || cuts >= s.max_cuts) {
+        throw NewtonFailure(fmt::format(
+            "static load stepping: load step {} did not converge at load factor {:.6g} (load "
+            "factor reached {:.6g}, increment {:.3g}{}): {}; residual {:.3e} after {} "
+            "iterations (tolerance {:.1e} x scale {:.3e})",
+            st.step, t_try, t, dt_try,
+            cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string(), out.reason,
+            out.residual, out.iterations, s.residual_tolerance, out.scale));
+      }
+      dt = 0.5 * dt_try;
+      ++cuts;
+      easy = 0;
+      continue;
+    }
+    st.t = t_try;
+    st.dt = dt_try;
+    st.iterations = out.iterations;
+    st.residual = out.residual;
+    st.cuts = cuts;
+    st.wall_seconds += carried_wall;
+    st.assembly_seconds += carried_asm;
+    st.solve_seconds += carried_solve;
+    carried_wall = carried_asm = carried_solve = 0.0;
+    cuts = 0;
+    t = t_try;
+    x = std::move(x_try);
+    mu = std::move(mu_try);
+    if (s.adaptive) {
+      if (out.iterations <= s.easy_iterations) {
+        if (++easy >= s.grow_after && dt < dt_nominal) {
+          dt = std::min(2.0 * dt, dt_nominal);
+          easy = 0;
+        }
+      } else {
+        easy = 0;
+      }
+    }
+    res.steps.push_back(std::move(st));
+    if (observer) observer(res.steps.back().step, t, x);
+  }
+  res.x = std::move(x);
+  res.mu = std::move(mu);
+  res.analyses = I.ldlt.analyses() + I.lu.analyses() - analyses0;
+  return res;
+}
+
+}  // namespace isoflex::integrate
