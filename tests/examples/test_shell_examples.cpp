@@ -2,6 +2,7 @@
 // moment (IGA-thesis (6.14), exact arc) and the Scordelis–Lo roof (IGA-thesis §6.4.1.2, 0.3024).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -85,20 +86,33 @@ TEST(PlateRollUpDirectorShell, TipFollowsTheExactArc) {
   for (int k = 0; k < 3; ++k) EXPECT_GT(e16[k], 3.0 * e32[k]) << k;  // ≈ second order
 }
 
-// Reference 0.3024 (IGA-thesis §6.4.1.2), geometrically linear. Measured: 8×8 0.2944, 16×16
-// 0.2991 (1.09 % low), 32×32 0.3007 (0.56 % low).
+// Reference 0.3024 (IGA-thesis §6.4.1.2), geometrically linear. Measured (examples/scordelis_lo/
+// README.md): 4×4 0.31767 (+5.05 %), 8×8 0.30424 (+0.61 %), 16×16 0.30174 (−0.22 %), 32×32
+// 0.30138 (−0.34 %), 64×64 0.30158 (−0.27 %). The coarse meshes are too flexible (in-plane shear
+// at the centre); from 32 × 32 on the result approaches the model's limit ≈ 0.3020 from below, at
+// first order, as the transverse-shear edge layers (width ~ t) at the free edge and the diaphragm
+// are resolved. Hence the error rises from 16 × 16 to 32 × 32 and falls again: asserted are the
+// issue's 1 % at 16 × 16, a decreasing error up to 16 × 16 and from 32 × 32 to 64 × 64, and
+// shrinking changes between successive meshes.
 TEST(ScordelisLoDirectorShell, MidpointOfTheFreeEdgeConvergesToTheReference) {
   const double ref = 0.3024;
-  const double u8 = -scordelis_lo(8), u16 = -scordelis_lo(16), u32 = -scordelis_lo(32);
-  EXPECT_LT(std::abs(u16 - ref) / ref, 0.012);
-  EXPECT_LT(std::abs(u32 - ref) / ref, 0.006);
-  EXPECT_LT(std::abs(u16 - ref), std::abs(u8 - ref));
-  EXPECT_LT(std::abs(u32 - ref), std::abs(u16 - ref));
+  std::array<double, 5> u{}, e{};
+  for (int k = 0; k < 5; ++k) {
+    u[k] = -scordelis_lo(4 << k);
+    e[k] = std::abs(u[k] - ref) / ref;
+  }
+  EXPECT_LT(e[2], 0.01);  // 16 × 16 (measured 0.22 %)
+  EXPECT_LT(e[2], e[1]);
+  EXPECT_LT(e[1], e[0]);
+  EXPECT_LT(e[3], 0.004);
+  EXPECT_LT(e[4], e[3]);
+  for (int k = 0; k + 2 < 5; ++k)
+    EXPECT_LT(std::abs(u[k + 2] - u[k + 1]), std::abs(u[k + 1] - u[k])) << k;
 }
 
 // Reference 0.0924 (IGA-thesis §6.4.1.4, the hemisphere without hole) within 2 % on 16 × 16, as
 // the issue asks; the standard 18°-hole model is run (0.094 for it, MacNeal & Harder). Measured:
-// 8×8 0.09342, 16×16 0.09304, 32×32 0.09332 (examples/pinched_hemisphere/README.md).
+// 8×8 0.09359, 16×16 0.09324, 32×32 0.09342 (examples/pinched_hemisphere/README.md).
 TEST(PinchedHemisphereDirectorShell, LoadPointMovesAsTheReference) {
   const std::string text = example_text("pinched_hemisphere", "director_shell.yaml");
   const auto path = static_probe(io::read_model_string(text, "director_shell.yaml"));

@@ -144,6 +144,17 @@ Mat2 contract(const Mat2& Ai, double nu, double c, const Mat2& t) {
   return r;
 }
 
+// Coefficients c with Ê₁₂ = c·(ε₁₁, ε₂₂, ε₁₂): the in-plane shear strain in the orthonormal frame
+// (e₁, e₂) of the tangent plane at a point, Ê₁₂ = (e₁·G^α)(e₂·G^β) ε_αβ, G^α = A^{αβ} Φ,β
+// (docs/theory/shell.md (3.1a); ε₁₂ standing for ε₁₂ and ε₂₁).
+Vec3 cartesian_shear(const Geometry& g, const Vec3& e1, const Vec3& e2) {
+  const Mat2 Ai = g.A.inverse();
+  const Vec3 Gu1 = Ai(0, 0) * g.G1 + Ai(0, 1) * g.G2;
+  const Vec3 Gu2 = Ai(1, 0) * g.G1 + Ai(1, 1) * g.G2;
+  const double a1 = e1.dot(Gu1), a2 = e1.dot(Gu2), b1 = e2.dot(Gu1), b2 = e2.dot(Gu2);
+  return Vec3(a1 * b1, a2 * b2, a1 * b2 + a2 * b1);
+}
+
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("DirectorShellElement: " + message);
 }
@@ -152,7 +163,7 @@ void require(bool ok, const std::string& message) {
 
 DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, const Vec<24>& q0,
                                            const ShellMaterial& m, const Vec3& gravity,
-                                           bool assumed_shear)
+                                           bool assumed_shear, bool assumed_membrane_shear)
     : nodes_(nodes.begin(), nodes.end()), material_(m), g_(gravity) {
   // Checks at the boundary, written so that NaN fails.
   require(m.E > 0.0, "E must be > 0, got " + std::to_string(m.E));
@@ -185,6 +196,15 @@ DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, cons
   const double c_bending = m.E * h * h * h / (12.0 * (1.0 - m.nu * m.nu));
   const double c_shear = m.shear_correction * G * h;
 
+  // Centre frame e₁ = Φ,₁/|Φ,₁|, e₂ = N × e₁ and the plain membrane forms there (§3.1).
+  const Geometry c0 = geometry(Q0, 0.0, 0.0);
+  Mat3 c_frame;
+  c_frame.col(0) = c0.G1.normalized();
+  c_frame.col(2) = c0.normal;
+  c_frame.col(1) = c0.normal.cross(c_frame.col(0));
+  const auto c_forms = strain_forms(0.0, 0.0, false);
+  const Vec3 c_shear0 = cartesian_shear(c0, c_frame.col(0), c_frame.col(1));
+
   // 2 × 2 Gauss–Legendre, weights 1.
   const double gp = 1.0 / std::sqrt(3.0);
   constexpr double kGaussSign[4][2] = {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}};
@@ -206,7 +226,23 @@ DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, cons
     C.block<2, 2>(6, 6) = wj * c_shear * Ai;
     C_[g] = C;
 
-    const auto forms = strain_forms(xi1, xi2, assumed_shear);
+    auto forms = strain_forms(xi1, xi2, assumed_shear);
+    if (assumed_membrane_shear) {
+      // Assumed in-plane shear (docs/theory/shell.md (3.1a)–(3.1c)): the Cartesian Ê₁₂ in the
+      // tangent frame (e₁, e₂) at the Gauss point is replaced by its value at the centre,
+      // Δ = Ê₁₂(0) − Ê₁₂(ξ_g), through ε̃_αβ = ε_αβ + (T₁α T₂β + T₂α T₁β) Δ, T(i, α) = e_i·Φ,α,
+      // which changes Ê₁₂ only. Δ combines quadratic forms with constant coefficients.
+      Vec3 e1 = c_frame.col(0) - geo.normal.dot(c_frame.col(0)) * geo.normal;
+      e1.normalize();
+      const Vec3 e2 = geo.normal.cross(e1);
+      const Vec3 cg = cartesian_shear(geo, e1, e2);
+      Block8 delta = Block8::Zero();
+      for (int i = 0; i < 3; ++i) delta += c_shear0(i) * c_forms[i] - cg(i) * forms[i];
+      const double T[2][2] = {{e1.dot(geo.G1), e1.dot(geo.G2)}, {e2.dot(geo.G1), e2.dot(geo.G2)}};
+      forms[0] += 2.0 * T[0][0] * T[1][0] * delta;
+      forms[1] += 2.0 * T[0][1] * T[1][1] * delta;
+      forms[2] += (T[0][0] * T[1][1] + T[1][0] * T[0][1]) * delta;
+    }
     for (int k = 0; k < kPointStrains; ++k) h_[g * kPointStrains + k] = forms[k];
 
     const Vec<4> N = shape(xi1, xi2).N;
@@ -226,14 +262,11 @@ DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, cons
     const Mat<3, 8> HQ = Q0.lazyProduct(h_centre_[k]);
     e0_centre_(k) = 0.5 * HQ.cwiseProduct(Q0).sum();
   }
-  const Geometry c = geometry(Q0, 0.0, 0.0);
-  A_inv_centre_ = c.A.inverse();
-  frame_centre_.col(0) = c.G1.normalized();
-  frame_centre_.col(2) = c.normal;
-  frame_centre_.col(1) = c.normal.cross(frame_centre_.col(0));
+  A_inv_centre_ = c0.A.inverse();
+  frame_centre_ = c_frame;
   for (int i = 0; i < 2; ++i) {
-    T_centre_(i, 0) = frame_centre_.col(i).dot(c.G1);
-    T_centre_(i, 1) = frame_centre_.col(i).dot(c.G2);
+    T_centre_(i, 0) = frame_centre_.col(i).dot(c0.G1);
+    T_centre_(i, 1) = frame_centre_.col(i).dot(c0.G2);
   }
 }
 

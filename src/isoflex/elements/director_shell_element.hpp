@@ -8,10 +8,13 @@
 //
 // Strains in natural (covariant) components, ( ),α = ∂/∂ξ^α, reference values from q₀ subtracted:
 //   ε_αβ = ½(φ,α·φ,β − Φ,α·Φ,β),  κ_αβ = ½(φ,α·d,β + φ,β·d,α) − (same with Φ, D),
-//   γ_α = φ,α·d − Φ,α·D,  the last one by assumed natural strains (MITC4) if requested.
+//   γ_α = φ,α·d − Φ,α·D,  the last one by assumed natural strains (MITC4) if requested;
+// the in-plane shear by an assumed strain too (the Cartesian membrane shear at the Gauss points
+// replaced by its value at the element centre, docs/theory/shell.md §3.1) if requested.
 // Each of them, at each Gauss point, is a quadratic form ½ qᵀ (h_k ⊗ I₃) q − E_k⁰ with a constant
-// 8 × 8 matrix h_k over the eight blocks; the ANS interpolation only combines such forms. That is
-// what keeps the average-strain discrete gradient exact and the element objective.
+// 8 × 8 matrix h_k over the eight blocks; the assumed strains only combine such forms with
+// constant coefficients. That is what keeps the average-strain discrete gradient exact and the
+// element objective.
 //
 // Stored energy V = ∫ W dA (2 × 2 Gauss on the reference surface) with
 // W = ½(n^{αβ} ε_αβ + m^{αβ} κ_αβ + q^α γ_α), minus the gravity work ρh ∫ g·φ dA.
@@ -33,11 +36,15 @@ class DirectorShellElement final : public Element {
   // Nodes counter-clockwise, natural coordinates (ξ¹, ξ²) = (−1,−1), (1,−1), (1,1), (−1,1).
   // q0: reference configuration (unit directors D_a, typically the mid-surface normals at the
   // nodes). assumed_shear: true = ANS/MITC4 transverse shear (default); false = plain 2×2
-  // integration (locks; for tests only). Throws std::invalid_argument for bad material data,
-  // non-unit reference directors, a degenerate element or a director on the wrong side of the
-  // reference surface (nodes not counter-clockwise seen from the director tips).
+  // integration (locks; for tests only). assumed_membrane_shear: true = the in-plane shear of
+  // docs/theory/shell.md §3.1 (default: no parasitic in-plane shear); false = the membrane strains
+  // at the Gauss points (too stiff in in-plane bending; for tests only). Throws
+  // std::invalid_argument for bad material data, non-unit reference directors, a degenerate element
+  // or a director on the wrong side of the reference surface (nodes not counter-clockwise seen from
+  // the director tips).
   DirectorShellElement(const std::array<int, 4>& nodes, const Vec<24>& q0, const ShellMaterial& m,
-                       const Vec3& gravity, bool assumed_shear = true);
+                       const Vec3& gravity, bool assumed_shear = true,
+                       bool assumed_membrane_shear = true);
 
   const std::vector<int>& nodes() const override { return nodes_; }
   // Strain energy − gravity work (ρh ∫ g·φ dA).
