@@ -64,29 +64,37 @@ TEST(KLBoundaryConditions, ClampedAndPinnedRowsAndDofMap) {
   EXPECT_THROW(loads::edge_control_points(s, PatchEdge::v0, 7), std::invalid_argument);
 }
 
-// Quarter cylinder: the edge ξ = 0 lies in the plane y = 0, the edge ξ = 1 in x = 0.
-TEST(KLBoundaryConditions, SymmetryRowsOnACylinder) {
+// Quarter cylinder: the edge ξ = 0 lies in the plane y = 0, the edge ξ = 1 in x = 0. Row 0 loses
+// its normal component; the slope rows hold for every displacement that is symmetric about both
+// planes (uniform radial expansion, axial stretch: δ_A = (a X, a Y, b Z)) and fail for one that
+// turns the edge (δ_A = ω e_z × X: a rigid rotation about the axis, antisymmetric about y = 0).
+TEST(KLBoundaryConditions, SymmetryOnACylinder) {
   const auto s = geometry::k_refine(geometry::cylinder_sector(1.0, 2.0, kPi / 2.0), 1, 0, 2, 3);
   KLBoundaryConditions bc(s);
   bc.symmetry_edge(PatchEdge::u0, Vec3(0, 2, 0)).symmetry_edge(PatchEdge::u1, Vec3(-1, 0, 0));
   const LinearConstraints lc = bc.constraints();
-  EXPECT_EQ(lc.multipliers(), 0);  // axis-aligned normals: elimination
   std::set<int> expected;
-  for (int j = 0; j < s.n_v(); ++j)
-    for (int r = 0; r < 2; ++r) {
-      const int a = s.index(r, j), b = s.index(s.n_u() - 1 - r, j);
-      expected.insert(3 * a + 1);  // y on the ξ = 0 side
-      expected.insert(3 * b + 0);  // x on the ξ = 1 side
-      // The edge row lies in its plane.
-      if (r == 0) {
-        EXPECT_NEAR(s.points[static_cast<std::size_t>(a)].y(), 0.0, 1e-14);
-        EXPECT_NEAR(s.points[static_cast<std::size_t>(b)].x(), 0.0, 1e-14);
-      }
-    }
+  for (int j = 0; j < s.n_v(); ++j) {
+    const int a = s.index(0, j), b = s.index(s.n_u() - 1, j);
+    expected.insert(3 * a + 1);  // y on the ξ = 0 side
+    expected.insert(3 * b + 0);  // x on the ξ = 1 side
+    EXPECT_NEAR(s.points[static_cast<std::size_t>(a)].y(), 0.0, 1e-14);
+    EXPECT_NEAR(s.points[static_cast<std::size_t>(b)].x(), 0.0, 1e-14);
+  }
   EXPECT_EQ(as_set(lc.eliminated), expected);
+  // Two slope rows per control-point pair and edge.
+  EXPECT_EQ(lc.multipliers(), 2 * 2 * s.n_v());
+  VecX symmetric(bc.dofs()), turning(bc.dofs());
+  for (std::size_t A = 0; A < s.points.size(); ++A) {
+    const Vec3& X = s.points[A];
+    symmetric.segment<3>(3 * static_cast<int>(A)) = Vec3(0.3 * X.x(), 0.3 * X.y(), -0.7 * X.z());
+    turning.segment<3>(3 * static_cast<int>(A)) = 0.1 * Vec3::UnitZ().cross(X);
+  }
+  EXPECT_LT((lc.C * symmetric).lpNorm<Eigen::Infinity>(), 1e-14);
+  EXPECT_GT((lc.C * turning).lpNorm<Eigen::Infinity>(), 1e-3);
 }
 
-// A plane that is not a coordinate plane: one multiplier row n·(x_A − X_A) = 0 per control point.
+// A plane that is not a coordinate plane: row 0's normal displacement is a multiplier row too.
 TEST(KLBoundaryConditions, SymmetryWithAGeneralNormalUsesMultiplierRows) {
   const double th = 2.0 * kPi / 3.0;
   const auto s = geometry::k_refine(geometry::cylinder_sector(1.0, 2.0, th), 0, 1, 1, 2);
@@ -95,18 +103,34 @@ TEST(KLBoundaryConditions, SymmetryWithAGeneralNormalUsesMultiplierRows) {
   bc.symmetry_edge(PatchEdge::u1, 3.0 * n);
   const LinearConstraints lc = bc.constraints();
   EXPECT_TRUE(lc.eliminated.empty());
-  ASSERT_EQ(lc.multipliers(), 2 * s.n_v());
+  ASSERT_EQ(lc.multipliers(), 3 * s.n_v());
   const auto row0 = loads::edge_control_points(s, PatchEdge::u1, 0);
-  const auto row1 = loads::edge_control_points(s, PatchEdge::u1, 1);
   for (const int a : row0) EXPECT_NEAR(n.dot(s.points[static_cast<std::size_t>(a)]), 0.0, 1e-14);
-  // C δ = n·δ_A per row, for a random δ.
+  // The first n_v rows are n·δ_A on row 0.
   const VecX d = VecX::LinSpaced(bc.dofs(), -1.0, 2.0);
   const VecX Cd = lc.C * d;
-  for (int r = 0; r < lc.multipliers(); ++r) {
-    const int a = r < s.n_v() ? row0[static_cast<std::size_t>(r)]
-                              : row1[static_cast<std::size_t>(r - s.n_v())];
-    EXPECT_NEAR(Cd(r), n.dot(d.segment<3>(3 * a)), 1e-14) << r;
+  for (int r = 0; r < s.n_v(); ++r)
+    EXPECT_NEAR(Cd(r), n.dot(d.segment<3>(3 * row0[static_cast<std::size_t>(r)])), 1e-14) << r;
+  // A symmetric field about the plane (radial expansion, axial stretch) satisfies all rows.
+  VecX symmetric(bc.dofs());
+  for (std::size_t A = 0; A < s.points.size(); ++A) {
+    const Vec3& X = s.points[A];
+    symmetric.segment<3>(3 * static_cast<int>(A)) = Vec3(0.3 * X.x(), 0.3 * X.y(), -0.7 * X.z());
   }
+  EXPECT_LT((lc.C * symmetric).lpNorm<Eigen::Infinity>(), 1e-14);
+}
+
+// Two symmetry edges meeting at a corner fix the twist there twice: the dependent row is dropped.
+TEST(KLBoundaryConditions, SymmetryCornerKeepsIndependentRows) {
+  const auto s = geometry::k_refine(geometry::planar_rectangle(2.0, 1.0), 2, 2, 3, 3);
+  KLBoundaryConditions bc(s);
+  bc.symmetry_edge(PatchEdge::u1, Vec3(1, 0, 0)).symmetry_edge(PatchEdge::v0, Vec3(0, 1, 0));
+  const LinearConstraints lc = bc.constraints();
+  // Per edge 2 rows per pair, less: the in-plane slope row of each edge at the corner, whose two
+  // control points both lie on the other edge's row 0 (that component is eliminated there), and
+  // one of the four z-rows around the corner cell, which depends on the other three.
+  EXPECT_EQ(lc.multipliers(), 2 * s.n_v() + 2 * s.n_u() - 3);
+  EXPECT_EQ(Eigen::FullPivLU<MatX>(MatX(lc.C)).rank(), lc.multipliers());
 }
 
 TEST(KLBoundaryConditions, WeakPrescribedEdgeIsTheL2ProjectionOfTheTrace) {

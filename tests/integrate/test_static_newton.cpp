@@ -179,10 +179,10 @@ TEST(StaticNewton, SpringChainConvergesToClosedForm) {
   set.steps = 4;
   std::vector<double> ts;
   StaticNewtonSolver solver(chain.problem(), chain.fixed_root(), set);
-  const StaticResult res = solver.solve([&](int step, double t, const VecX& x) {
-    EXPECT_EQ(step, static_cast<int>(ts.size()) + 1);
+  const StaticResult res = solver.solve([&](const LoadStepStats& st, const VecX& x) {
+    EXPECT_EQ(st.step, static_cast<int>(ts.size()) + 1);
     EXPECT_EQ(x.size(), chain.N + 1);
-    ts.push_back(t);
+    ts.push_back(st.t);
   });
   ASSERT_EQ(res.steps.size(), 4u);
   EXPECT_DOUBLE_EQ(ts.back(), 1.0);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "isoflex/app/kl_run.hpp"
 #include "isoflex/app/progress.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -21,16 +22,32 @@ namespace isoflex::app {
 
 namespace {
 
+// A model compiled either as a multibody system or, if it has a Kirchhoff–Love shell, for the
+// static analysis of that shell.
 struct Loaded {
   model::Model model;
   std::unique_ptr<system::System> sys;
+  std::unique_ptr<integrate::KLShellAnalysis> kl;
 };
 
-// Reads and compiles a model; prints one error line and returns nullopt on bad input.
-std::optional<Loaded> load(const std::string& file, std::FILE* err) {
+// Reads and compiles a model, with the options' solver overrides applied first; prints one error
+// line and returns nullopt on bad input.
+std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o = nullptr) {
   try {
-    Loaded l{io::read_model(file), nullptr};
-    l.sys = std::make_unique<system::System>(system::System::compile(l.model));
+    Loaded l{io::read_model(file), nullptr, nullptr};
+    model::Solver& s = l.model.solver;
+    if (o && o->formulation) s.formulation = *o->formulation;
+    if (o && o->dt) s.dt = *o->dt;
+    if (o && o->t_end) s.t_end = *o->t_end;
+    if (!(s.dt > 0) || !(s.t_end > 0)) {
+      fmt::print(err, "error: --dt and --t-end must be positive\n");
+      return std::nullopt;
+    }
+    if (!l.model.kl_shells.empty())
+      l.kl = std::make_unique<integrate::KLShellAnalysis>(
+          integrate::KLShellAnalysis::compile(l.model));
+    else
+      l.sys = std::make_unique<system::System>(system::System::compile(l.model));
     return l;
   } catch (const io::ModelError& e) {
     fmt::print(err, "error: {}\n", e.what());
@@ -69,14 +86,12 @@ std::string rows_by_joint(const system::System& sys, const std::vector<int>& row
 int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   auto l = load(file, err);
   if (!l) return 2;
-  const auto& sys = *l->sys;
-  const int m_int = sys.internal_rows();
   fmt::print(out, "model            {}\n", file);
-  fmt::print(out, "bodies           {}\n", l->model.bodies.size());
-  if (!sys.beams().empty()) {
+  if (!l->kl) fmt::print(out, "bodies           {}\n", l->model.bodies.size());
+  if (l->sys && !l->sys->beams().empty()) {
     std::size_t elements = 0;
-    for (const auto& b : sys.beams()) elements += b.elements.size();
-    fmt::print(out, "beams            {} ({} elements)\n", sys.beams().size(), elements);
+    for (const auto& b : l->sys->beams()) elements += b.elements.size();
+    fmt::print(out, "beams            {} ({} elements)\n", l->sys->beams().size(), elements);
   }
   // Surfaces (for shells): source, size after refinement, suitability findings.
   for (const model::Surface& s : l->model.surfaces) {
@@ -102,6 +117,12 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
       fmt::print(out, "  {:<14} fix: {}\n", "", f.fix);
     }
   }
+  if (l->kl) {
+    print_kl_check(*l->kl, out);
+    return 0;
+  }
+  const auto& sys = *l->sys;
+  const int m_int = sys.internal_rows();
   const int n_director = sys.director_node_count();
   if (n_director == 0)
     fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
@@ -132,14 +153,14 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
 }
 
 int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
-  auto l = load(o.model_file, err);
+  auto l = load(o.model_file, err, &o);
   if (!l) return 2;
   model::Model& m = l->model;
-  if (o.formulation) m.solver.formulation = *o.formulation;
-  if (o.dt) m.solver.dt = *o.dt;
-  if (o.t_end) m.solver.t_end = *o.t_end;
-  if (!(m.solver.dt > 0) || !(m.solver.t_end > 0)) {
-    fmt::print(err, "error: --dt and --t-end must be positive\n");
+  if (l->kl && !o.statics) {
+    fmt::print(err,
+               "error: {}: a model with a Kirchhoff–Love shell (kl_shells) has a static analysis "
+               "only for now: run it with --static\n",
+               o.model_file);
     return 2;
   }
   const std::filesystem::path outdir =
@@ -154,6 +175,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     return 2;
   }
 
+  if (l->kl) return run_kl_static(o.model_file, m, *l->kl, outdir, out, err);
   const auto& sys = *l->sys;
   integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   const integrate::StaticEquilibrium statics(sys, m.solver);

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "isoflex/geometry/quadrature.hpp"
+#include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::integrate {
 
@@ -85,11 +86,31 @@ KLBoundaryConditions& KLBoundaryConditions::symmetry_edge(PatchEdge e, const Vec
   int axis = -1;
   for (int k = 0; k < 3; ++k)
     if (std::abs(u(k)) >= 1.0 - 1e-12) axis = k;
-  if (axis >= 0) return fix_edge(e, 1u << axis, 2);
-  for (int r = 0; r < 2; ++r)
-    for (int cp : loads::edge_control_points(s_, e, r))
-      plane_rows_.push_back(
-          {cp, u, fmt::format("symmetry {} row {} control point {}", loads::to_string(e), r, cp)});
+  const std::vector<int> row0 = loads::edge_control_points(s_, e, 0);
+  const std::vector<int> row1 = loads::edge_control_points(s_, e, 1);
+  const std::string edge = loads::to_string(e);
+  if (axis >= 0) {
+    for (int cp : row0) fix_control_point(cp, 1u << axis);
+  } else {
+    for (int cp : row0)
+      link_rows_.push_back(
+          {{{3 * cp, u.x()}, {3 * cp + 1, u.y()}, {3 * cp + 2, u.z()}},
+           fmt::format("symmetry {}: normal displacement of control point {}", edge, cp)});
+  }
+  // An orthonormal basis (t₁, t₂) of the plane.
+  const Vec3 t1 = u.unitOrthogonal(), t2 = u.cross(t1);
+  for (std::size_t i = 0; i < row0.size(); ++i)
+    for (const Vec3& t : {t1, t2}) {
+      LinkRow r;
+      for (int k = 0; k < 3; ++k)
+        if (t(k) != 0.0) {
+          r.entries.emplace_back(3 * row1[i] + k, t(k));
+          r.entries.emplace_back(3 * row0[i] + k, -t(k));
+        }
+      r.label = fmt::format("symmetry {}: slope between control points {} and {}", edge, row0[i],
+                            row1[i]);
+      link_rows_.push_back(std::move(r));
+    }
   return *this;
 }
 
@@ -119,16 +140,43 @@ LinearConstraints KLBoundaryConditions::constraints() const {
 
   std::vector<Eigen::Triplet<double>> trip;
   int m = 0;
-  // Symmetry planes with a general normal: n·(x_A − X_A) = 0 (rhs 0).
-  for (const PlaneRow& r : plane_rows_) {
-    bool any = false;
-    for (int k = 0; k < 3; ++k)
-      if (r.n(k) != 0.0 && !eliminated[static_cast<std::size_t>(3 * r.cp + k)]) any = true;
-    if (!any) continue;  // already fixed by elimination
-    for (int k = 0; k < 3; ++k)
-      if (r.n(k) != 0.0) trip.emplace_back(m, 3 * r.cp + k, r.n(k));
-    out.row_labels.push_back(r.label);
-    ++m;
+  // Symmetry rows (rhs 0) on the free dofs; entries on eliminated dofs drop out, which needs
+  // their prescribed value to be 0.
+  std::vector<LinkRow> link;
+  for (const LinkRow& r : link_rows_) {
+    LinkRow kept{{}, r.label};
+    for (const auto& [dof, c] : r.entries) {
+      if (!eliminated[static_cast<std::size_t>(dof)]) {
+        kept.entries.emplace_back(dof, c);
+        continue;
+      }
+      for (const Fixed& f : fixed_)
+        if (f.dof == dof && f.value)
+          throw std::invalid_argument(
+              fmt::format("KLBoundaryConditions: {} meets the prescribed displacement of dof {}",
+                          r.label, dof));
+    }
+    if (!kept.entries.empty()) link.push_back(std::move(kept));
+  }
+  if (!link.empty()) {
+    // Independent rows, on the dense matrix of the columns they touch.
+    std::vector<int> cols;
+    for (const LinkRow& r : link)
+      for (const auto& e : r.entries) cols.push_back(e.first);
+    std::sort(cols.begin(), cols.end());
+    cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    MatX D =
+        MatX::Zero(static_cast<Eigen::Index>(link.size()), static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t i = 0; i < link.size(); ++i)
+      for (const auto& [dof, c] : link[i].entries)
+        D(static_cast<Eigen::Index>(i),
+          std::lower_bound(cols.begin(), cols.end(), dof) - cols.begin()) += c;
+    for (int i : solve::independent_rows_lu(D)) {
+      for (const auto& [dof, c] : link[static_cast<std::size_t>(i)].entries)
+        trip.emplace_back(m, dof, c);
+      out.row_labels.push_back(link[static_cast<std::size_t>(i)].label);
+      ++m;
+    }
   }
   const int m_plane = m;
 

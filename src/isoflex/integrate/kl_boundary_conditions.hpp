@@ -8,9 +8,19 @@
 //   With open knot vectors the boundary curve depends only on row 0 of the edge, so fixing row 0
 //   fixes the edge (pinned / simply supported in those components); fixing rows 0 and 1 also
 //   fixes the tangent across the edge, ∂_n c = Σ R_A,n x_A: a clamped edge.
-// • A symmetry plane through an edge with unit normal n fixes n·(x_A − X_A) for rows 0 and 1 (no
-//   normal displacement, no rotation out of the plane). If n is a coordinate axis the component is
-//   eliminated; otherwise each control point gets one multiplier row n·(x_A − X_A) = 0.
+// • A symmetry plane through an edge with unit normal n: the surface continues by reflection, so
+//   the displacement component along n is odd and the two components in the plane are even
+//   across the edge: n·(x_A − X_A) = 0 on row 0, and the in-plane components of the slope across
+//   the edge vanish, t·(u_B − u_A) = 0 for t ⊥ n and each pair (A on row 0, B on row 1 next to
+//   it) — with open knot vectors (and weights that are a product of a ξ- and an η-factor, as for
+//   surfaces of revolution) the slope across the edge is a positive multiple of u_B − u_A. This
+//   keeps the normal displacement and the rotation about the edge fixed, as symmetry demands,
+//   and leaves the stretch across the edge free. The row-0 condition eliminates a component if n
+//   is a coordinate axis, otherwise it is a multiplier row; the slope conditions are multiplier
+//   rows (they link two control points). Rows that act only on eliminated components are
+//   dropped, and so are rows that depend on others (where two symmetry edges meet at a corner,
+//   the twist ∂²u/∂ξ∂η is fixed twice): an independent subset is selected by full-pivot LU
+//   (solve::independent_rows_lu) on the columns the rows touch.
 // • A prescribed displacement ū(t, X) of an edge (a moving boundary) is imposed weakly by
 //   Lagrange multipliers on the edge (IGA-thesis (3.37)–(3.40), (4.25)–(4.27)):
 //       ∫_Γ Φ_j · (u_h − ū) |∂_θ c₀| dθ = 0,   u_h = Σ_A R_A (x_A − X_A),
@@ -71,9 +81,9 @@ class KLBoundaryConditions {
     int dof;
     std::function<double(double)> value;
   };
-  struct PlaneRow {
-    int cp;
-    Vec3 n;
+  // A homogeneous row Σ c_i (x_i − X_i) = 0 over full dofs i.
+  struct LinkRow {
+    std::vector<std::pair<int, double>> entries;
     std::string label;
   };
   struct WeakEdge {
@@ -84,7 +94,7 @@ class KLBoundaryConditions {
   };
   geometry::NurbsSurface s_;
   std::vector<Fixed> fixed_;
-  std::vector<PlaneRow> plane_rows_;
+  std::vector<LinkRow> link_rows_;
   std::vector<WeakEdge> weak_;
 };
 

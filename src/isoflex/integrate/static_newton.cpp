@@ -81,7 +81,7 @@ struct StaticNewtonSolver::Impl {
   SpMat A;
   bool have_reduction = false;
 
-  solve::FixedPatternLDLT ldlt;
+  solve::FixedPatternCholesky cholesky;
   solve::FixedPatternLU lu;
   int analyses_before = 0;
 
@@ -167,10 +167,12 @@ struct StaticNewtonSolver::Impl {
   }
 
   // The single place where the Newton matrix is factorized (to be swapped for another solver).
+  // Symmetric without multipliers: supernodal Cholesky (CHOLMOD), 3.8× faster than Eigen's
+  // simplicial LDLᵀ at 5·10³ unknowns and 8.8× at 3·10⁴ (bench/kl_shell.md, solvers).
   VecX linear_solve(const SpMat& M, const VecX& b) {
     if (problem.symmetric && m == 0) {
       try {
-        return ldlt.solve(M, b);
+        return cholesky.solve(M, b);
       } catch (const std::runtime_error&) {
         // Not positive definite (past a limit point, or a singular direction): pivoted LU.
       }
@@ -349,7 +351,7 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
   double t = 0.0, dt = dt_nominal;
   int cuts = 0, easy = 0;
   double carried_wall = 0.0, carried_asm = 0.0, carried_solve = 0.0;
-  const int analyses0 = I.ldlt.analyses() + I.lu.analyses();
+  const int analyses0 = I.cholesky.analyses() + I.lu.analyses();
   while (t < s.t_end) {
     double dt_try = std::min(dt, s.t_end - t);
     if (s.t_end - (t + dt_try) < 1e-12 * dt_nominal) dt_try = s.t_end - t;
@@ -402,11 +404,11 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
       }
     }
     res.steps.push_back(std::move(st));
-    if (observer) observer(res.steps.back().step, t, x);
+    if (observer) observer(res.steps.back(), x);
   }
   res.x = std::move(x);
   res.mu = std::move(mu);
-  res.analyses = I.ldlt.analyses() + I.lu.analyses() - analyses0;
+  res.analyses = I.cholesky.analyses() + I.lu.analyses() - analyses0;
   return res;
 }
 

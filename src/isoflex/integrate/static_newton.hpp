@@ -111,8 +111,8 @@ struct StaticResult {
   int analyses = 0;  // symbolic analyses of the sparse factorization
 };
 
-// Called after every accepted load step with (step, t, x).
-using StaticObserver = std::function<void(int, double, const VecX&)>;
+// Called after every accepted load step with its statistics (step, t, iterations, …) and x.
+using StaticObserver = std::function<void(const LoadStepStats&, const VecX&)>;
 
 class StaticNewtonSolver {
  public:

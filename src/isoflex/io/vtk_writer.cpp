@@ -562,16 +562,17 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
   if (files_.size() <= 2000 || now - last_pvd_write_ >= std::chrono::seconds(1)) write_pvd();
 }
 
+std::string pvd_collection(const std::string& entries) {
+  return "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n" +
+         entries +
+         "  </Collection>\n"
+         "</VTKFile>\n";
+}
+
 void VtkSeriesWriter::write_pvd() {
-  std::string text =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      "  <Collection>\n";
-  text += pvd_entries_;
-  text +=
-      "  </Collection>\n"
-      "</VTKFile>\n";
-  write_file_atomic(outdir_ / "results.pvd", text);
+  write_file_atomic(outdir_ / "results.pvd", pvd_collection(pvd_entries_));
   pvd_dirty_ = false;
   last_pvd_write_ = std::chrono::steady_clock::now();
 }

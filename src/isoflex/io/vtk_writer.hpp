@@ -79,6 +79,9 @@ BodyMesh body_mesh(const model::Shape& shape, const integrate::BodyPose& pose);
 BodyMesh beam_element_mesh(const integrate::BodyPose& a, const integrate::BodyPose& b,
                            const std::array<double, 2>& section);
 
+// A ParaView collection (.pvd) of the given <DataSet .../> lines.
+std::string pvd_collection(const std::string& entries);
+
 class VtkSeriesWriter : public integrate::Observer {
  public:
   // Creates outdir/vtk. every ≤ 0 writes nothing at all.

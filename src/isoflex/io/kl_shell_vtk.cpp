@@ -1,0 +1,85 @@
+#include "isoflex/io/kl_shell_vtk.hpp"
+
+#include <fmt/format.h>
+
+#include <functional>
+#include <iterator>
+#include <vector>
+
+#include "isoflex/io/nurbs_vtk_writer.hpp"
+#include "isoflex/io/summary_writer.hpp"
+#include "isoflex/io/vtk_writer.hpp"
+
+namespace isoflex::io {
+
+std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int n_per_span) {
+  const elements::KLShellPatch& patch = a.patch();
+  geometry::NurbsSurface deformed = patch.reference();
+  std::vector<double> u(static_cast<std::size_t>(x.size()));
+  const VecX X = patch.reference_positions();
+  for (std::size_t k = 0; k < deformed.points.size(); ++k) {
+    deformed.points[k] = x.segment<3>(3 * static_cast<int>(k));
+    for (int c = 0; c < 3; ++c) u[3 * k + c] = x(3 * static_cast<int>(k) + c) - X(3 * k + c);
+  }
+  // The writer asks for every field at one point before it moves on: recover once per point.
+  struct Cache {
+    double xi = -1e300, eta = -1e300;
+    elements::KLShellStress s;
+  };
+  auto cache = std::make_shared<Cache>();
+  auto at = [&, cache](double xi, double eta) -> const elements::KLShellStress& {
+    if (xi != cache->xi || eta != cache->eta) {
+      cache->s = patch.stress(x, xi, eta, a.kinematics());
+      cache->xi = xi;
+      cache->eta = eta;
+    }
+    return cache->s;
+  };
+  using Get = std::function<void(const elements::KLShellStress&, double*)>;
+  auto field = [&](const char* name, int nc, Get get) {
+    return SampledField{name, nc, {}, [at, get](double xi, double eta, const Vec3&, double* out) {
+                          get(at(xi, eta), out);
+                        }};
+  };
+  auto vec3 = [](const Vec3& v, double* out) {
+    for (int c = 0; c < 3; ++c) out[c] = v(c);
+  };
+  std::vector<SampledField> fields;
+  fields.push_back({"displacement", 3, u, {}});
+  fields.push_back(field("n", 3, [&](const auto& s, double* o) { vec3(s.n, o); }));
+  fields.push_back(field("m", 3, [&](const auto& s, double* o) { vec3(s.m, o); }));
+  fields.push_back(field("sigma_top", 3, [&](const auto& s, double* o) { vec3(s.sigma_top, o); }));
+  fields.push_back(
+      field("sigma_bottom", 3, [&](const auto& s, double* o) { vec3(s.sigma_bottom, o); }));
+  fields.push_back(field("principal_top", 2, [](const auto& s, double* o) {
+    o[0] = s.principal_top(0);
+    o[1] = s.principal_top(1);
+  }));
+  fields.push_back(field("principal_bottom", 2, [](const auto& s, double* o) {
+    o[0] = s.principal_bottom(0);
+    o[1] = s.principal_bottom(1);
+  }));
+  fields.push_back(
+      field("von_mises_top", 1, [](const auto& s, double* o) { o[0] = s.von_mises_top; }));
+  fields.push_back(
+      field("von_mises_bottom", 1, [](const auto& s, double* o) { o[0] = s.von_mises_bottom; }));
+  fields.push_back(field("e1", 3, [&](const auto& s, double* o) { vec3(s.frame.col(0), o); }));
+  return nurbs_tessellated_vtu(deformed, n_per_span, fields);
+}
+
+KLShellVtkWriter::KLShellVtkWriter(const std::filesystem::path& outdir,
+                                   const integrate::KLShellAnalysis& a, int every, int n_per_span)
+    : outdir_(outdir), a_(a), every_(every), n_per_span_(n_per_span) {}
+
+void KLShellVtkWriter::write(int step, double t, const VecX& x, bool last) {
+  if (every_ <= 0 || step == last_written_) return;
+  if (step % every_ != 0 && !last) return;
+  const std::string name = fmt::format("vtk/step_{:06d}.vtu", step);
+  write_file_atomic(outdir_ / name, kl_shell_vtu(a_, x, n_per_span_));
+  last_written_ = step;
+  fmt::format_to(std::back_inserter(pvd_entries_),
+                 "    <DataSet timestep=\"{:.17g}\" part=\"0\" file=\"{}\"/>\n", t, name);
+  write_file_atomic(outdir_ / "results.pvd", pvd_collection(pvd_entries_));
+}
+
+}  // namespace isoflex::io

@@ -1,0 +1,165 @@
+// `isoflex check` and `isoflex run --static` on a Kirchhoff–Love shell model end to end: the
+// counts printed, the outputs written (summary.json probe, probes.csv, history.csv, VTU with the
+// stress fields, results.pvd), located errors with exit code 2 and a Newton failure with exit 3.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
+  Result r{-1, {}};
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("isoflex_klcli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// A simply supported square plate a = 1, t = 0.01, E = 1e6, ν = 0.3, uniform q = 1 (p = 3, 8×8):
+// centre deflection ≈ 0.00406235 q a⁴/D (references.md).
+std::string plate(const std::string& extra = "") {
+  return "name: plate\n"
+         "solver: {dt: 0.5, t_end: 1, linear: true}\n"
+         "surfaces:\n"
+         "  - name: sq\n"
+         "    builtin: {type: rectangle, size: [1, 1]}\n"
+         "    refine: {elevate: [2, 2], knots_per_span: [7, 7]}\n"
+         "kl_shells:\n"
+         "  - name: plate\n"
+         "    surface: sq\n"
+         "    material: {E: 1e6, nu: 0.3, thickness: 0.01}\n"
+         "kl_supports:\n"
+         "  - {shell: plate, edge: u0, fixed: all}\n"
+         "  - {shell: plate, edge: u1, fixed: all}\n"
+         "  - {shell: plate, edge: v0, fixed: all}\n"
+         "  - {shell: plate, edge: v1, fixed: all}\n"
+         "kl_loads:\n"
+         "  - {shell: plate, area_force: [0, 0, \"-t\"]}\n"
+         "probes:\n"
+         "  - {name: ref, shell: plate, point: [0.5, 0.5, 0]}\n" +
+         extra;
+}
+}  // namespace
+
+TEST(KLCli, CheckPrintsTheShellCounts) {
+  const fs::path d = temp_dir("check");
+  std::ofstream(d / "m.yaml") << plate();
+  const Result r = run("check " + (d / "m.yaml").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  // p = 3 with 8 spans: 11 × 11 control points; the four edges fix 40 of them entirely.
+  EXPECT_NE(r.out.find("control points   121 (3 coordinates each)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("dofs             363"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("eliminated       120"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("unknowns         243"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("64 elements, 1024 quadrature points (4 x 4 per element"), std::string::npos)
+      << r.out;
+}
+
+TEST(KLCli, StaticRunWritesOutputsAndTheProbe) {
+  const fs::path d = temp_dir("run");
+  std::ofstream(d / "m.yaml") << plate();
+  const Result r = run("run --static " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const double D = 1e6 * 1e-6 / (12 * (1 - 0.09));
+  const double w = 0.00406235 / D;
+  const std::string summary = read(d / "out" / "summary.json");
+  const auto at = summary.find("\"displacement\": [");
+  ASSERT_NE(at, std::string::npos) << summary;
+  double ux, uy, uz;
+  ASSERT_EQ(std::sscanf(summary.c_str() + at + 17, "%lf, %lf, %lf", &ux, &uy, &uz), 3) << summary;
+  EXPECT_NEAR(-uz / w, 1.0, 5e-3);
+  EXPECT_NEAR(ux, 0.0, 1e-12);
+  // Two load steps, linear: the probe at t = 0.5 is half the final one.
+  const std::string probes = read(d / "out" / "probes.csv");
+  EXPECT_NE(probes.find("\n0.5,ref,"), std::string::npos) << probes;
+  EXPECT_NE(read(d / "out" / "history.csv").find("\n1,"), std::string::npos);
+  const std::string vtu = read(d / "out" / "vtk" / "step_000002.vtu");
+  for (const char* name : {"displacement", "\"n\"", "\"m\"", "sigma_top", "sigma_bottom",
+                           "principal_top", "von_mises_top", "von_mises_bottom", "e1"})
+    EXPECT_NE(vtu.find(name), std::string::npos) << name;
+  const std::string pvd = read(d / "out" / "results.pvd");
+  EXPECT_NE(pvd.find("timestep=\"1\" part=\"0\" file=\"vtk/step_000002.vtu\""), std::string::npos)
+      << pvd;
+}
+
+TEST(KLCli, BadInputExitsWith2) {
+  const fs::path d = temp_dir("bad");
+  // Degree 1 geometry (no refine).
+  std::string m = plate();
+  const std::string refine = "    refine: {elevate: [2, 2], knots_per_span: [7, 7]}\n";
+  m.replace(m.find(refine), refine.size(), "");
+  std::ofstream(d / "deg1.yaml") << m;
+  Result r = run("run --static " + (d / "deg1.yaml").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("deg1.yaml:8: kl_shells[0].surface: surface \"sq\" has degrees (1, 1)"),
+            std::string::npos)
+      << r.out;
+  // A load point off the surface.
+  std::ofstream(d / "off.yaml") << plate("  - {name: off, shell: plate, point: [0.5, 0.5, 0.1]}\n");
+  r = run("check " + (d / "off.yaml").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("off.yaml:20: probes[1].point: the point (0.5, 0.5, 0.1) is not on surface "
+                       "\"sq\""),
+            std::string::npos)
+      << r.out;
+  // An unknown CAD patch.
+  std::ofstream(d / "cad.yaml")
+      << "surfaces:\n  - name: s\n    cad: {file: \"" ISOFLEX_SOURCE_DIR
+         "/tests/data/cad/quarter_cylinder_R1_L2_deg2.igs\", patch: 7}\n"
+         "kl_shells:\n  - {name: k, surface: s, material: {E: 1, nu: 0, thickness: 1}}\n";
+  r = run("check " + (d / "cad.yaml").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("cad.yaml:3: surfaces[0].cad.patch:"), std::string::npos) << r.out;
+  // Without --static.
+  std::ofstream(d / "m.yaml") << plate();
+  r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("static analysis only for now: run it with --static"), std::string::npos)
+      << r.out;
+}
+
+TEST(KLCli, NewtonFailureKeepsResultsAndSaysWhere) {
+  const fs::path d = temp_dir("fail");
+  std::string m = plate();
+  // Nonlinear, a huge pressure jump at the second step, one iteration allowed.
+  m.replace(m.find("linear: true"), 12, "max_iterations: 1");
+  m.replace(m.find("\"-t\""), 4, "\"-1e3*t*(t>0.6)\"");
+  std::ofstream(d / "m.yaml") << m;
+  const Result r = run("run --static " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("load step 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("results up to load step 1, t = 0.5"), std::string::npos) << r.out;
+  EXPECT_NE(read(d / "out" / "summary.json").find("\"status\": \"failed\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "out" / "vtk" / "step_000001.vtu"));
+}
