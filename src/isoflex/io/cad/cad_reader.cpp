@@ -1,4 +1,4 @@
-#include "isoflex/io/cad/cad_reader.hpp"
+#include "isoflex/io/cad/cad_plugin.hpp"
 
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
@@ -269,7 +269,7 @@ void transfer_faces(XSControl_Reader& reader, CadModel& model) {
 
 }  // namespace
 
-CadModel read_cad(const std::filesystem::path& file) {
+CadModel read_cad_occt(const std::filesystem::path& file) {
   const std::string name = file.string();
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) throw CadError(name, "no such file");
