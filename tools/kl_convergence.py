@@ -158,7 +158,7 @@ def main():
                                  control_points=cps, dofs=dofs, unknowns=unknowns, value=v,
                                  error=err, wall_s=wall))
                 print(f"p={p} k={k} elements={elements} dofs={dofs} value={v:.10g} "
-                      f"error={100 * err:+.4f}% wall={wall:.3f}s", flush=True)
+                      f"error={100 * err:+.4g}% wall={wall:.3f}s", flush=True)
 
     if a.table:
         with open(a.table, "w") as f:
@@ -166,7 +166,7 @@ def main():
                     f"{a.reference:g} | wall s |\n|---|---|---|---|---|---|---|---|\n")
             for r in rows:
                 f.write(f"| {r['p']} | {r['elements']} | {r['control_points']} | {r['dofs']} | "
-                        f"{r['unknowns']} | {r['value']:.6g} | {100 * r['error']:+.3f} % | "
+                        f"{r['unknowns']} | {r['value']:.6g} | {100 * r['error']:+.3g} % | "
                         f"{r['wall_s']:.3f} |\n")
     if a.csv:
         with open(a.csv, "w", newline="") as f:

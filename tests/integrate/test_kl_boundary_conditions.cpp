@@ -39,9 +39,13 @@ TEST(KLBoundaryConditions, ClampedAndPinnedRowsAndDofMap) {
   bc.clamp_edge(PatchEdge::u0).fix_edge(PatchEdge::v1, kCompZ);
   const LinearConstraints lc = bc.constraints();
   std::set<int> expected;
-  for (int j = 0; j < s.n_v(); ++j)
-    for (int i = 0; i < 2; ++i)
-      for (int k = 0; k < 3; ++k) expected.insert(3 * (i + s.n_u() * j) + k);
+  // Clamped u0 (the edge x = 0 of a plate in the xy plane): row 0 held, row 1 held in y and z (the
+  // slope across the edge keeps its direction x; the stretch across the edge, x of row 1, is
+  // free). The slope rows reduce to eliminations, so there are no multipliers.
+  for (int j = 0; j < s.n_v(); ++j) {
+    for (int k = 0; k < 3; ++k) expected.insert(3 * (s.n_u() * j) + k);
+    for (int k = 1; k < 3; ++k) expected.insert(3 * (1 + s.n_u() * j) + k);
+  }
   for (int i = 0; i < s.n_u(); ++i) expected.insert(3 * (i + s.n_u() * (s.n_v() - 1)) + 2);
   EXPECT_EQ(as_set(lc.eliminated), expected);
   EXPECT_TRUE(std::is_sorted(lc.eliminated.begin(), lc.eliminated.end()));
@@ -68,6 +72,19 @@ TEST(KLBoundaryConditions, ClampedAndPinnedRowsAndDofMap) {
 // its normal component; the slope rows hold for every displacement that is symmetric about both
 // planes (uniform radial expansion, axial stretch: δ_A = (a X, a Y, b Z)) and fail for one that
 // turns the edge (δ_A = ω e_z × X: a rigid rotation about the axis, antisymmetric about y = 0).
+// A clamp of some components holds those components of rows 0 and 1.
+TEST(KLBoundaryConditions, PartialClampHoldsRowsZeroAndOne) {
+  const auto s = plate();
+  KLBoundaryConditions bc(s);
+  bc.clamp_edge(PatchEdge::v0, kCompZ);
+  const LinearConstraints lc = bc.constraints();
+  std::set<int> expected;
+  for (int i = 0; i < s.n_u(); ++i)
+    for (int r = 0; r < 2; ++r) expected.insert(3 * (i + s.n_u() * r) + 2);
+  EXPECT_EQ(as_set(lc.eliminated), expected);
+  EXPECT_EQ(lc.multipliers(), 0);
+}
+
 TEST(KLBoundaryConditions, SymmetryOnACylinder) {
   const auto s = geometry::k_refine(geometry::cylinder_sector(1.0, 2.0, kPi / 2.0), 1, 0, 2, 3);
   KLBoundaryConditions bc(s);

@@ -75,7 +75,36 @@ KLBoundaryConditions& KLBoundaryConditions::fix_edge(PatchEdge e, unsigned compo
 }
 
 KLBoundaryConditions& KLBoundaryConditions::clamp_edge(PatchEdge e, unsigned components) {
-  return fix_edge(e, components, 2);
+  if (components != kCompXYZ) return fix_edge(e, components, 2);
+  // The edge held, and the slope across it keeps its direction: t·(u_B − u_A) = 0 for t ⊥ the
+  // reference slope direction X_B − X_A, the stretch across the edge free.
+  fix_edge(e, kCompXYZ, 1);
+  const std::vector<int> row0 = loads::edge_control_points(s_, e, 0);
+  const std::vector<int> row1 = loads::edge_control_points(s_, e, 1);
+  for (std::size_t i = 0; i < row0.size(); ++i) {
+    const Vec3 d = (s_.points[static_cast<std::size_t>(row1[i])] -
+                    s_.points[static_cast<std::size_t>(row0[i])])
+                       .normalized();
+    const Vec3 t1 = d.unitOrthogonal(), t2 = d.cross(t1);
+    add_slope_rows(
+        row0[i], row1[i], t1, t2,
+        fmt::format("clamped {}: slope at control point {}", loads::to_string(e), row1[i]));
+  }
+  return *this;
+}
+
+void KLBoundaryConditions::add_slope_rows(int a, int b, const Vec3& t1, const Vec3& t2,
+                                          const std::string& label) {
+  for (const Vec3& t : {t1, t2}) {
+    LinkRow r;
+    for (int k = 0; k < 3; ++k)
+      if (t(k) != 0.0) {
+        r.entries.emplace_back(3 * b + k, t(k));
+        r.entries.emplace_back(3 * a + k, -t(k));
+      }
+    r.label = label;
+    link_rows_.push_back(std::move(r));
+  }
 }
 
 KLBoundaryConditions& KLBoundaryConditions::symmetry_edge(PatchEdge e, const Vec3& n) {
@@ -100,17 +129,9 @@ KLBoundaryConditions& KLBoundaryConditions::symmetry_edge(PatchEdge e, const Vec
   // An orthonormal basis (t₁, t₂) of the plane.
   const Vec3 t1 = u.unitOrthogonal(), t2 = u.cross(t1);
   for (std::size_t i = 0; i < row0.size(); ++i)
-    for (const Vec3& t : {t1, t2}) {
-      LinkRow r;
-      for (int k = 0; k < 3; ++k)
-        if (t(k) != 0.0) {
-          r.entries.emplace_back(3 * row1[i] + k, t(k));
-          r.entries.emplace_back(3 * row0[i] + k, -t(k));
-        }
-      r.label = fmt::format("symmetry {}: slope between control points {} and {}", edge, row0[i],
-                            row1[i]);
-      link_rows_.push_back(std::move(r));
-    }
+    add_slope_rows(
+        row0[i], row1[i], t1, t2,
+        fmt::format("symmetry {}: slope between control points {} and {}", edge, row0[i], row1[i]));
   return *this;
 }
 
@@ -142,21 +163,31 @@ LinearConstraints KLBoundaryConditions::constraints() const {
   int m = 0;
   // Symmetry rows (rhs 0) on the free dofs; entries on eliminated dofs drop out, which needs
   // their prescribed value to be 0.
-  std::vector<LinkRow> link;
-  for (const LinkRow& r : link_rows_) {
-    LinkRow kept{{}, r.label};
-    for (const auto& [dof, c] : r.entries) {
-      if (!eliminated[static_cast<std::size_t>(dof)]) {
-        kept.entries.emplace_back(dof, c);
-        continue;
-      }
+  for (const LinkRow& r : link_rows_)
+    for (const auto& [dof, c] : r.entries)
       for (const Fixed& f : fixed_)
         if (f.dof == dof && f.value)
           throw std::invalid_argument(
               fmt::format("KLBoundaryConditions: {} meets the prescribed displacement of dof {}",
                           r.label, dof));
+  // A row left with one free entry, c·(x_i − X_i) = 0, is an elimination (which keeps the
+  // Newton matrix symmetric positive definite); that can leave other rows with one entry.
+  std::vector<LinkRow> link;
+  for (bool changed = true; changed;) {
+    changed = false;
+    link.clear();
+    for (const LinkRow& r : link_rows_) {
+      LinkRow kept{{}, r.label};
+      for (const auto& [dof, c] : r.entries)
+        if (!eliminated[static_cast<std::size_t>(dof)]) kept.entries.emplace_back(dof, c);
+      if (kept.entries.size() == 1) {
+        eliminated[static_cast<std::size_t>(kept.entries[0].first)] = 1;
+        out.eliminate(kept.entries[0].first);
+        changed = true;
+      } else if (!kept.entries.empty()) {
+        link.push_back(std::move(kept));
+      }
     }
-    if (!kept.entries.empty()) link.push_back(std::move(kept));
   }
   if (!link.empty()) {
     // Independent rows, on the dense matrix of the columns they touch.

@@ -59,7 +59,10 @@ class KLBoundaryConditions {
   KLBoundaryConditions& fix_control_point(int cp, unsigned components = kCompXYZ);
   // Rows 0 … rows−1 of the edge (rows = 1: the edge itself).
   KLBoundaryConditions& fix_edge(PatchEdge e, unsigned components = kCompXYZ, int rows = 1);
-  // Clamped: rows 0 and 1.
+  // Clamped. All components: the edge (row 0) held and the slope across it keeps its direction,
+  // t·(u_B − u_A) = 0 for t ⊥ X_B − X_A (rows 0 and 1 pairwise), its stretch free; fixing rows 0
+  // and 1 entirely would also hold the membrane strain across the edge at zero (a first-order
+  // error in nonlinear bending). Some components: those components of rows 0 and 1.
   KLBoundaryConditions& clamp_edge(PatchEdge e, unsigned components = kCompXYZ);
   // Symmetry plane with normal n (normalized here) containing the edge. Throws for |n| = 0.
   KLBoundaryConditions& symmetry_edge(PatchEdge e, const Vec3& n);
@@ -92,6 +95,9 @@ class KLBoundaryConditions {
     unsigned components;
     int n_points;
   };
+  // Rows t·(u_b − u_a) = 0 for t = t1, t2.
+  void add_slope_rows(int a, int b, const Vec3& t1, const Vec3& t2, const std::string& label);
+
   geometry::NurbsSurface s_;
   std::vector<Fixed> fixed_;
   std::vector<LinkRow> link_rows_;

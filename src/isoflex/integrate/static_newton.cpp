@@ -366,7 +366,10 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
       carried_wall += st.wall_seconds;
       carried_asm += st.assembly_seconds;
       carried_solve += st.solve_seconds;
-      if (!s.adaptive || cuts >= s.max_cuts) {
+      // The increment is never cut below dt_nominal / 2^max_cuts (near a limit point it would
+      // otherwise shrink without bound).
+      const int depth = static_cast<int>(std::lround(std::log2(dt_nominal / dt_try)));
+      if (!s.adaptive || depth >= s.max_cuts) {
         throw NewtonFailure(fmt::format(
             "static load stepping: load step {} did not converge at load factor {:.6g} (load "
             "factor reached {:.6g}, increment {:.3g}{}): {}; residual {:.3e} after {} "

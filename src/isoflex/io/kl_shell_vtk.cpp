@@ -27,9 +27,20 @@ std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int
     elements::KLShellStress s;
   };
   auto cache = std::make_shared<Cache>();
+  const geometry::NurbsSurface& ref = patch.reference();
   auto at = [&, cache](double xi, double eta) -> const elements::KLShellStress& {
     if (xi != cache->xi || eta != cache->eta) {
-      cache->s = patch.stress(x, xi, eta, a.kinematics());
+      // At a collapsed edge (a sphere's pole) the tangent plane has no frame: recover just inside
+      // the domain, 1e-4 of its width towards the centre (closer, the metric A₁₁ ~ distance² loses
+      // the digits), which gives the limit values to about 1e-4.
+      const geometry::SurfacePoint g = geometry::evaluate(ref, xi, eta);
+      const double size = g.xu.norm() + g.xv.norm();
+      double xr = xi, er = eta;
+      if (!(g.xu.cross(g.xv).norm() > 1e-10 * size * size)) {
+        xr += 1e-4 * (0.5 * (ref.u.front() + ref.u.back()) - xi);
+        er += 1e-4 * (0.5 * (ref.v.front() + ref.v.back()) - eta);
+      }
+      cache->s = patch.stress(x, xr, er, a.kinematics());
       cache->xi = xi;
       cache->eta = eta;
     }

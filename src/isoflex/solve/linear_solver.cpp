@@ -116,7 +116,11 @@ struct FixedPatternCholesky::Impl {
   KeptPattern pattern;
 };
 
-FixedPatternCholesky::FixedPatternCholesky() : impl_(std::make_unique<Impl>()) {}
+FixedPatternCholesky::FixedPatternCholesky() : impl_(std::make_unique<Impl>()) {
+  // An indefinite matrix is reported by the exception (callers fall back to LU), not printed.
+  impl_->llt.cholmod().print = 0;
+  impl_->llt.cholmod().quick_return_if_not_posdef = 1;
+}
 FixedPatternCholesky::~FixedPatternCholesky() = default;
 FixedPatternCholesky::FixedPatternCholesky(FixedPatternCholesky&&) noexcept = default;
 FixedPatternCholesky& FixedPatternCholesky::operator=(FixedPatternCholesky&&) noexcept = default;
