@@ -1,6 +1,5 @@
 // The `isoflex` executable end to end: exit codes, messages, output files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
@@ -11,23 +10,15 @@
 #include <string>
 #include <tuple>
 
+#include "support/cli.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr
-};
+using Result = isoflex::test::CliResult;
 
 Result run(const std::string& args) {
-  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
-  Result r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return isoflex::test::run_isoflex(args);
 }
 
 fs::path temp_dir(const std::string& name) {

@@ -2,7 +2,6 @@
 // counts printed, the outputs written (summary.json probe, probes.csv, history.csv, VTU with the
 // stress fields, results.pvd), located errors with exit code 2 and a Newton failure with exit 3.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <array>
 #include <cmath>
@@ -12,38 +11,24 @@
 #include <sstream>
 #include <string>
 
+#include "support/cli.hpp"
+#include "support/files.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr
-};
+using Result = isoflex::test::CliResult;
 
 Result run(const std::string& args) {
-  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
-  Result r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return isoflex::test::run_isoflex(args);
 }
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("isoflex_klcli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return isoflex::test::temp_dir("isoflex_klcli_", name);
 }
 
 std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return isoflex::test::read_text(p);
 }
 
 // A simply supported square plate a = 1, t = 0.01, E = 1e6, ν = 0.3, uniform q = 1 (p = 3, 8×8):

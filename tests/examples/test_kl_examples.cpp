@@ -16,25 +16,14 @@
 
 #include "isoflex/integrate/kl_shell_analysis.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/examples.hpp"
 
 using namespace isoflex;
 
 namespace {
 
-std::string example_text(const std::string& dir, const std::string& file) {
-  std::ifstream in(std::string(ISOFLEX_SOURCE_DIR) + "/examples/" + dir + "/" + file);
-  EXPECT_TRUE(in.good()) << dir << "/" << file;
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
+using test::example_text;
+using test::replaced;
 
 // The refine line of the example with degree p (surface degrees pu, pv) and k knots per span.
 std::string refined(const std::string& text, const std::string& refine, int pu, int pv, int p,

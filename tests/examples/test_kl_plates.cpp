@@ -19,25 +19,14 @@
 
 #include "isoflex/integrate/kl_shell_analysis.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/examples.hpp"
 
 using namespace isoflex;
 
 namespace {
 
-std::string example_text(const std::string& dir, const std::string& file) {
-  std::ifstream in(std::string(ISOFLEX_SOURCE_DIR) + "/examples/" + dir + "/" + file);
-  std::stringstream s;
-  s << in.rdbuf();
-  EXPECT_FALSE(s.str().empty()) << dir << "/" << file;
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
+using test::example_text;
+using test::replaced;
 
 // Displacement of probe `ref` after every accepted load step: (t, u).
 std::vector<std::pair<double, Vec3>> probe_path(const std::string& text, const std::string& name) {

@@ -10,24 +10,14 @@
 
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/examples.hpp"
 
 using namespace isoflex;
 
 namespace {
 
-std::string example_text(const std::string& dir, const std::string& file) {
-  std::ifstream in(std::string(ISOFLEX_SOURCE_DIR) + "/examples/" + dir + "/" + file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
+using test::example_text;
+using test::replaced;
 
 // Position of probe `ref` after each load step of the static solve.
 std::vector<std::pair<double, Vec3>> static_probe(const model::Model& m) {
