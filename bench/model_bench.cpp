@@ -21,6 +21,7 @@
 #include "bench_cli.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "isoflex/solve/memory.hpp"
 #include "newton_condition.hpp"
 
 namespace {
@@ -129,6 +130,7 @@ RunResult run(const system::System& sys, const model::Solver& settings, int repe
 }  // namespace
 
 int main(int argc, char** argv) {
+  isoflex::solve::retain_freed_memory();  // repeated large factorizations (solve/memory.hpp)
   const Options o = parse(argc, argv);
   try {
     model::Model m = io::read_model(o.model);

@@ -30,6 +30,7 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/model/model.hpp"
+#include "isoflex/solve/memory.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace {
@@ -202,6 +203,7 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
 }  // namespace
 
 int main(int argc, char** argv) {
+  isoflex::solve::retain_freed_memory();  // repeated large factorizations (solve/memory.hpp)
   const Options o = parse(argc, argv);
   fmt::print(
       "simply supported plate 1 x 1 x 0.01, N x N elements, pressure 1000*(t<0.01), dt = {:g}, "

@@ -5,8 +5,10 @@
 
 #include "isoflex/app/cad_info.hpp"
 #include "isoflex/app/commands.hpp"
+#include "isoflex/solve/memory.hpp"
 
 int main(int argc, char** argv) {
+  isoflex::solve::retain_freed_memory();  // repeated large factorizations (solve/memory.hpp)
   CLI::App app{"isoflex — flexible multibody dynamics with energy-momentum integrators"};
   app.set_version_flag("--version", std::string("isoflex ") + ISOFLEX_VERSION);
   app.require_subcommand(1);
