@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "isoflex/elements/kl_shell_patch_impl.hpp"
 #include "isoflex/geometry/element_basis.hpp"
@@ -262,7 +264,11 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
   const int nf = m.n_fun;
   const VecX X = linear ? m.reference_positions() : VecX();
   VecX r = VecX::Zero(x.size());
-  MatX Ke;
+  // Tangent work space, allocated once per call: the point factors T^g of one element, the basis
+  // derivatives ρ^g(k) (5G × n), the scratch W and the element blocks K_kl (kl-shell.md §5).
+  std::vector<kl::PackedTangent> Tg;
+  MatX Rho, W, Ke;
+  bool tangent = K != nullptr;  // false: K is the cached linear tangent
   if (K) {
     const SpMat& P = m.pattern;
     const bool same =
@@ -270,12 +276,24 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
         K->nonZeros() == P.nonZeros() &&
         std::equal(P.outerIndexPtr(), P.outerIndexPtr() + P.outerSize() + 1, K->outerIndexPtr());
     if (!same) *K = P;
+    if (linear) {
+      const std::lock_guard<std::mutex> lock(m.linear_mutex);
+      if (!m.linear_values.empty()) {
+        std::copy(m.linear_values.begin(), m.linear_values.end(), K->valuePtr());
+        tangent = false;
+      }
+    }
+  }
+  if (tangent) {
     std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
-    Ke.resize(3 * nf, 3 * nf);
+    Tg.resize(static_cast<std::size_t>(m.n_qp));
+    Rho.resize(kl::kDerivatives * m.n_qp, nf);
+    Ke.resize(9 * nf, nf);
   }
   geometry::ElementBasis eb;
   kl::LocalPoints xl, Xl;
-  kl::BBlocks B;
+  kl::StrainOperator E;
+  kl::PointTangent T;
   LocalVector re(3 * nf);
   for (int e = 0; e < static_cast<int>(m.elems.size()); ++e) {
     geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
@@ -285,56 +303,78 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
       xl -= Xl;  // u = x − X
     }
     re.setZero();
-    if (K) Ke.setZero();
     for (int g = 0; g < m.n_qp; ++g) {
       const kl::BasisView R = view(eb, g);
       const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
+      const kl::CurrentPoint cur = linear ? kl::as_current(ref) : kl::current_point(R, xl);
+      const kl::NormalFactors nfac = kl::normal_factors(cur);
+      kl::strain_operator(cur, nfac, E);
       kl::Resultants s;
       if (linear) {
-        // r = K_lin (x − X), K_lin = ∫ B(X)ᵀ D B(X) dA (kl-shell.md §3).
-        const kl::CurrentPoint cur = kl::as_current(ref);
-        kl::b_matrix(R, cur, kl::normal_factors(cur), B);
-        Vec<6> E = Vec<6>::Zero();
-        for (int k = 0; k < nf; ++k) E.noalias() += B[k] * xl.col(k);
-        s.n = t * (ref.C * E.head<3>());
-        s.m = tb * (ref.C * E.tail<3>());
-        if (K) kl::add_material_stiffness(B, nf, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C, Ke);
+        // r = K_lin (x − X), K_lin = ∫ B(X)ᵀ D B(X) dA (kl-shell.md §3): the strains
+        // B(X) u = Σ_i E_i Σ_k ρ_i(k) u_k.
+        Vec<3 * kl::kDerivatives> du = Vec<3 * kl::kDerivatives>::Zero();
+        for (int k = 0; k < nf; ++k)
+          for (int i = 0; i < kl::kDerivatives; ++i)
+            du.segment<3>(3 * i) += R(1 + i, k) * xl.col(k);
+        const Vec<6> Eu = E * du;
+        s.n = t * (ref.C * Eu.head<3>());
+        s.m = tb * (ref.C * Eu.tail<3>());
       } else {
-        const kl::CurrentPoint cur = kl::current_point(R, xl);
-        const kl::NormalFactors nfac = kl::normal_factors(cur);
-        kl::b_matrix(R, cur, nfac, B);
         Vec3 Em, Ef;
         kl::strains(ref, cur, Em, Ef);
         s.n = t * (ref.C * Em);  // S^m = C E^m (3.14), pre-integrated over the thickness
         s.m = tb * (ref.C * Ef);
-        if (K) {
-          kl::add_stiffness(R, cur, nfac, B, s, ref.dA, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C,
-                            Ke);
-        }
       }
-      // IGA-thesis (3.34)–(3.35): a(u, v) = ∫ (n·E^m_*(v) + m·E^f_*(v)) ν₀ dϑ.
+      if (tangent) {
+        // IGA-thesis (3.36) as Σ_ij ρ_i(k) ρ_j(l) T_ij (kl-shell.md §5); the linear tangent is
+        // the material part at the reference.
+        kl::material_tangent(E, cur.a3, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C, T);
+        if (!linear) kl::add_geometric_tangent(cur, nfac, s, ref.dA, T);
+        kl::pack_tangent(T, Tg[static_cast<std::size_t>(g)]);
+        for (int k = 0; k < nf; ++k)
+          for (int i = 0; i < kl::kDerivatives; ++i) Rho(kl::kDerivatives * g + i, k) = R(1 + i, k);
+      }
+      // IGA-thesis (3.34)–(3.35): a(u, v) = ∫ (n·E^m_*(v) + m·E^f_*(v)) ν₀ dϑ, i.e.
+      // r_k += B_kᵀ S dA = Σ_i ρ_i(k) E_iᵀ S dA.
       Vec<6> S;
       S << s.n, s.m;
       S *= ref.dA;
-      for (int k = 0; k < nf; ++k) re.segment<3>(3 * k).noalias() += B[k].transpose() * S;
+      const Vec<3 * kl::kDerivatives> f = E.transpose() * S;
+      for (int k = 0; k < nf; ++k)
+        re.segment<3>(3 * k) += R(1, k) * f.segment<3>(0) + R(2, k) * f.segment<3>(3) +
+                                R(3, k) * f.segment<3>(6) + R(4, k) * f.segment<3>(9) +
+                                R(5, k) * f.segment<3>(12);
     }
     const int* c = m.conn.data() + static_cast<std::size_t>(e) * nf;
     for (int k = 0; k < nf; ++k) r.segment<3>(3 * c[k]) += re.segment<3>(3 * k);
-    if (K) {
-      // Scatter by the precomputed positions; Ke holds the upper block triangle (k ≤ l).
+    if (tangent) {
+      kl::element_tangent(Tg.data(), m.n_qp, Rho, W, Ke);
+      // Scatter by the precomputed positions; Ke holds the upper block triangle (k ≤ l), block
+      // (k, l) column-major in rows 9l … 9l + 8 of column k.
       double* val = K->valuePtr();
       for (int l = 0; l < nf; ++l) {
         const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * nf + l) * nf;
         const int stride = m.col_nnz[c[l]];
-        for (int k = 0; k < nf; ++k) {
-          double* dst = val + bp[k];
-          for (int cc = 0; cc < 3; ++cc)
-            for (int i = 0; i < 3; ++i)
-              dst[cc * stride + i] +=
-                  k <= l ? Ke(3 * k + i, 3 * l + cc) : Ke(3 * l + cc, 3 * k + i);
+        for (int cc = 0; cc < 3; ++cc) {  // column 3B + cc of K, rows in the order of k
+          double* col = val + cc * stride;
+          for (int k = 0; k <= l; ++k) {  // K_kl(i, cc) at i + 3cc
+            const double* src = &Ke(9 * l + 3 * cc, k);
+            double* dst = col + bp[k];
+            for (int i = 0; i < 3; ++i) dst[i] += src[i];
+          }
+          for (int k = l + 1; k < nf; ++k) {  // K_kl = K_lkᵀ: K_lk(cc, i) at cc + 3i
+            const double* src = &Ke(9 * k + cc, l);
+            double* dst = col + bp[k];
+            for (int i = 0; i < 3; ++i) dst[i] += src[3 * i];
+          }
         }
       }
     }
+  }
+  if (tangent && linear) {
+    const std::lock_guard<std::mutex> lock(m.linear_mutex);
+    m.linear_values.assign(K->valuePtr(), K->valuePtr() + K->nonZeros());
   }
   return r;
 }

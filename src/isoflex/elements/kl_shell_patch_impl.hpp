@@ -1,6 +1,7 @@
 #pragma once
 // Private state of KLShellPatch, shared by its translation units (assembly: kl_shell_patch.cpp,
 // stress recovery: kl_shell_stress.cpp). Not part of the public interface.
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,11 @@ struct KLShellPatch::Impl {
   std::vector<int> block_pos;
   std::vector<int> col_nnz;  // non-zeros of each of the three columns of control point B
   SpMat pattern, mass;
+  // The linear tangent (KLKinematics::linear) is constant: its values in the pattern, stored by
+  // the first linear evaluation with a tangent and copied by the later ones (kl-shell.md §3).
+  // Not part of the patch's value: the copies of a patch share it, hence the mutex.
+  mutable std::mutex linear_mutex;
+  mutable std::vector<double> linear_values;
 
   VecX reference_positions() const;
   // Local control points of element e taken from x (3·ncp).

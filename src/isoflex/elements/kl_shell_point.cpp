@@ -1,5 +1,7 @@
 #include "isoflex/elements/kl_shell_point.hpp"
 
+#include <algorithm>
+
 #include "isoflex/math/skew.hpp"
 
 namespace isoflex::elements::kl {
@@ -48,11 +50,20 @@ ReferencePoint reference_point(const BasisView& R, const LocalPoints& X, double 
 
 CurrentPoint current_point(const BasisView& R, const LocalPoints& x) {
   CurrentPoint c;
-  c.a1 = derivative(R, x, 1);
-  c.a2 = derivative(R, x, 2);
-  c.a11 = derivative(R, x, 3);
-  c.a12 = derivative(R, x, 4);
-  c.a22 = derivative(R, x, 5);
+  // The five derivative rows in one pass over the functions (independent sums, (4.21)).
+  c.a1.setZero();
+  c.a2.setZero();
+  c.a11.setZero();
+  c.a12.setZero();
+  c.a22.setZero();
+  for (int k = 0; k < R.n; ++k) {
+    const Vec3 xk = x.col(k);
+    c.a1 += R(1, k) * xk;
+    c.a2 += R(2, k) * xk;
+    c.a11 += R(3, k) * xk;
+    c.a12 += R(4, k) * xk;
+    c.a22 += R(5, k) * xk;
+  }
   const Vec3 t = c.a1.cross(c.a2);  // ã₃ (4.20)
   c.j = t.norm();
   c.a3 = t / c.j;
@@ -117,88 +128,113 @@ double energy_density(const Vec3& Em, const Vec3& Ef, const Resultants& s) {
   return 0.5 * (s.n.dot(Em) + s.m.dot(Ef));
 }
 
-namespace {
-
-// K_kl += Zt_k Y_l for k ≤ l, with fixed N-row factors (N = 6: material part only).
-template <int N>
-void add_blocks(const std::array<Mat<3, N>, kMaxFunctions>& Zt,
-                const std::array<Mat<N, 3>, kMaxFunctions>& Y, int n, MatX& K) {
-  for (int l = 0; l < n; ++l)
-    for (int k = 0; k <= l; ++k) K.block<3, 3>(3 * k, 3 * l).noalias() += Zt[k].lazyProduct(Y[l]);
-}
-
-}  // namespace
-
-void add_material_stiffness(const BBlocks& B, int n, const Mat3& Cm, const Mat3& Cb, MatX& K) {
-  // IGA-thesis (3.36), the terms S_*(w)·E_*(v) with S_* = C E_*: Σ B_kᵀ D B_l.
-  std::array<Mat<3, 6>, kMaxFunctions> Zt;
-  std::array<Mat<6, 3>, kMaxFunctions> Y;
-  for (int k = 0; k < n; ++k) {
-    Zt[k] = B[k].transpose();
-    Y[k].topRows<3>().noalias() = Cm * B[k].topRows<3>();
-    Y[k].bottomRows<3>().noalias() = Cb * B[k].bottomRows<3>();
+void strain_operator(const CurrentPoint& cur, const NormalFactors& nf, StrainOperator& E) {
+  // The E_i read off b_matrix (after IGA-thesis (3.33), kl-shell.md §4–§5): B_k = Σ_i ρ_i(k) E_i.
+  const Eigen::RowVector3d a1 = cur.a1.transpose(), a2 = cur.a2.transpose(),
+                           a3 = cur.a3.transpose();
+  E.setZero();
+  const Mat3* M[2] = {&nf.M1, &nf.M2};
+  for (int i = 0; i < 2; ++i) {  // R_k,ξ and R_k,η: membrane rows and a_αβᵀ da₃/dx_k
+    auto Ei = E.middleCols<3>(3 * i);
+    Ei.row(i) = i == 0 ? a1 : a2;
+    Ei.row(2) = i == 0 ? a2 : a1;
+    Ei.row(3).noalias() = -cur.a11.transpose() * *M[i];
+    Ei.row(4).noalias() = -cur.a22.transpose() * *M[i];
+    Ei.row(5).noalias() = -2.0 * cur.a12.transpose() * *M[i];
   }
-  add_blocks<6>(Zt, Y, n, K);
+  E.block<1, 3>(3, 6) = -a3;        // R_k,ξξ: E^f₁₁
+  E.block<1, 3>(5, 9) = -2.0 * a3;  // R_k,ξη: 2E^f₁₂
+  E.block<1, 3>(4, 12) = -a3;       // R_k,ηη: E^f₂₂
 }
 
-void add_stiffness(const BasisView& R, const CurrentPoint& cur, const NormalFactors& nf,
-                   const BBlocks& B, const Resultants& s, double w, const Mat3& Cm, const Mat3& Cb,
-                   MatX& K) {
-  // IGA-thesis (3.36): material part B_kᵀ D B_l plus the geometric part n·E^m_**(v, w) +
-  // m·E^f_**(v, w) with the second variation n^** of the normal (after (3.36)), in the factored
-  // form of kl-shell.md §5:  K_kl = Z_kᵀ Y_l + (R_k,ξ R_l,η − R_k,η R_l,ξ)[c']ₓ + g_kl I with
-  //   Z_k = [B_k; P_k; Q_k],  Y_l = [D B_l; Q_l; P_l],
-  //   P_k = [da₃/dx_k; h_kᵀ],  Q_k = [−s_k I + ½(c·a₃) da₃/dx_k; (D_kᵀc')ᵀ].
+void material_tangent(const StrainOperator& E, const Vec3& a3, const Mat3& Cm, const Mat3& Cb,
+                      PointTangent& T) {
+  // IGA-thesis (3.36), the terms S_*(w)·E_*(v) with S_* = C E_*: B_kᵀ D B_l = Σ_ij ρ_i(k) ρ_j(l)
+  // E_iᵀ D E_j. The columns of E_ξξ, E_ξη, E_ηη have one non-zero row each (σ a₃ᵀ in the bending
+  // row r, σ = −1, −2, −1): their rows of T are −σ a₃ ⊗ (D E)_r.
+  Mat<6, 15> DE;
+  DE.topRows<3>() = Cm.lazyProduct(E.topRows<3>());
+  DE.bottomRows<3>() = Cb.lazyProduct(E.bottomRows<3>());
+  T.topRows<6>() = E.leftCols<6>().transpose().lazyProduct(DE);
+  T.middleRows<3>(6) = -a3 * DE.row(3);          // R_k,ξξ
+  T.middleRows<3>(9) = (-2.0 * a3) * DE.row(5);  // R_k,ξη
+  T.middleRows<3>(12) = -a3 * DE.row(4);         // R_k,ηη
+}
+
+void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, const Resultants& s,
+                           double w, PointTangent& T) {
+  // IGA-thesis (3.36), S·E_**: the geometric part G_kl of kl-shell.md §5, written as
+  // Σ_ij ρ_i(k) ρ_j(l) G_ij. Membrane: g_kl I. Bending, with c = Σ m^{αβ} a_αβ (Voigt weights
+  // 1, 1, 2), c' = P c / j, s_k = Σ m^{αβ} R_k,αβ, da₃/dx_k = R_k,ξ M₁ + R_k,η M₂,
+  // h_k = R_k,ξ a^1 + R_k,η a^2, q_k = R_k,ξ (a₂ × c') − R_k,η (a₁ × c'):
+  //   −s_k da₃/dx_l − s_l (da₃/dx_k)ᵀ + (R_k,ξ R_l,η − R_k,η R_l,ξ)[c']ₓ + h_k q_lᵀ + q_k h_lᵀ
+  //   + (c·a₃)(da₃/dx_k)ᵀ da₃/dx_l.
   const Vec3 n = w * s.n, m = w * s.m;
-  // c = Σ m^{αβ} a_αβ (Voigt weights 1, 1, 2), c' = P c / j.
   const Vec3 c = m(0) * cur.a11 + m(1) * cur.a22 + 2.0 * m(2) * cur.a12;
   const double ca3 = c.dot(cur.a3);
   const Vec3 cp = (c - ca3 * cur.a3) / cur.j;
   // Contravariant current base vectors a^1 = a₂ × a₃ / j, a^2 = a₃ × a₁ / j.
-  const Vec3 g1 = cur.a2.cross(cur.a3) / cur.j, g2 = cur.a3.cross(cur.a1) / cur.j;
-  const Vec3 a2c = cur.a2.cross(cp), a1c = cur.a1.cross(cp);
-  std::array<Mat<3, 14>, kMaxFunctions> Zt;
-  std::array<Mat<14, 3>, kMaxFunctions> Y;
-  for (int k = 0; k < R.n; ++k) {
-    const double r1 = R(1, k), r2 = R(2, k);
-    const double sk = m(0) * R(3, k) + m(1) * R(5, k) + 2.0 * m(2) * R(4, k);  // Σ m^{αβ} R_k,αβ
-    const Mat3 da3 = r1 * nf.M1 + r2 * nf.M2;
-    const Vec3 h = r1 * g1 + r2 * g2;    // D_kᵀ a₃ / j
-    const Vec3 q = r1 * a2c - r2 * a1c;  // D_kᵀ c'
-    Mat3 Q = (0.5 * ca3) * da3;
-    Q.diagonal().array() -= sk;
-    Mat<3, 14>& z = Zt[k];
-    z.leftCols<6>() = B[k].transpose();
-    z.middleCols<3>(6) = da3.transpose();
-    z.col(9) = h;
-    z.middleCols<3>(10) = Q.transpose();
-    z.col(13) = q;
-    Mat<14, 3>& y = Y[k];
-    y.topRows<3>().noalias() = Cm * B[k].topRows<3>();
-    y.middleRows<3>(3).noalias() = Cb * B[k].bottomRows<3>();
-    y.middleRows<3>(6) = Q;
-    y.row(9) = q.transpose();
-    y.middleRows<3>(10) = da3;
-    y.row(13) = h.transpose();
+  const Vec3 h[2] = {cur.a2.cross(cur.a3) / cur.j, cur.a3.cross(cur.a1) / cur.j};
+  const Vec3 q[2] = {cur.a2.cross(cp), -cur.a1.cross(cp)};
+  const Mat3* M[2] = {&nf.M1, &nf.M2};
+  // Membrane n·E^m_**: n¹¹ R_k,ξ R_l,ξ + n²² R_k,η R_l,η + n¹² (R_k,ξ R_l,η + R_k,η R_l,ξ), × I.
+  const double nm[2][2] = {{n(0), n(2)}, {n(2), n(1)}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      auto Tij = T.block<3, 3>(3 * i, 3 * j);
+      Tij.noalias() += ca3 * (M[i]->transpose() * *M[j]);
+      Tij.noalias() += h[i] * q[j].transpose() + q[i] * h[j].transpose();
+      Tij.diagonal().array() += nm[i][j];
+    }
+  const Mat3 cx = skew(cp);
+  T.block<3, 3>(0, 3) += cx;  // (R_k,ξ R_l,η − R_k,η R_l,ξ)[c']ₓ
+  T.block<3, 3>(3, 0) -= cx;
+  // −s_k da₃/dx_l − s_l (da₃/dx_k)ᵀ: s_k = m¹¹ R_k,ξξ + 2m¹² R_k,ξη + m²² R_k,ηη.
+  const double mv[3] = {m(0), 2.0 * m(2), m(1)};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 2; ++j) {
+      T.block<3, 3>(3 * (i + 2), 3 * j) -= mv[i] * *M[j];
+      T.block<3, 3>(3 * j, 3 * (i + 2)) -= mv[i] * M[j]->transpose();
+    }
+}
+
+void pack_tangent(const PointTangent& T, PackedTangent& P) {
+  for (int j = 0; j < kDerivatives; ++j)
+    for (int i = 0; i < kDerivatives; ++i)
+      for (int b = 0; b < 3; ++b)
+        P.col(j).segment<3>(9 * i + 3 * b) = T.block<3, 1>(3 * i, 3 * j + b);
+}
+
+void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K) {
+  // kl-shell.md §5, eq. (K). W (9n × 5G): row 9l + e, column 5g + i holds entry e of W_i^g(l)
+  // (column-major 3 × 3); then K (9n × n), row 9l + e, column k, = W · Rho, the sum over all points
+  // and all i as one matrix product (Eigen's blocked GEMM, the element matrix written once).
+  const int n = static_cast<int>(Rho.cols());
+  W.resize(9 * n, kDerivatives * G);
+  for (int g = 0; g < G; ++g) {
+    const PackedTangent& Tg = T[g];
+    for (int l = 0; l < n; ++l) {
+      const double* rl = &Rho(kDerivatives * g, l);
+      const double r0 = rl[0], r1 = rl[1], r2 = rl[2], r3 = rl[3], r4 = rl[4];
+      for (int i = 0; i < kDerivatives; ++i)  // W_i^g(l) = Σ_j T_ij^g ρ_j^g(l)
+        Eigen::Map<Vec<9>>(&W(9 * l, kDerivatives * g + i)) =
+            Tg.col(0).segment<9>(9 * i) * r0 + Tg.col(1).segment<9>(9 * i) * r1 +
+            Tg.col(2).segment<9>(9 * i) * r2 + Tg.col(3).segment<9>(9 * i) * r3 +
+            Tg.col(4).segment<9>(9 * i) * r4;
+    }
   }
-  add_blocks<14>(Zt, Y, R.n, K);
-  for (int l = 0; l < R.n; ++l) {
-    const double r1l = R(1, l), r2l = R(2, l);
-    for (int k = 0; k <= l; ++k) {
-      const double r1k = R(1, k), r2k = R(2, k);
-      const double a = r1k * r2l - r2k * r1l;
-      // Membrane: n·E^m_**(v, w) = δ_ik (n¹¹ R_k,ξ R_l,ξ + n²² R_k,η R_l,η + n¹²(…)).
-      const double gm = n(0) * r1k * r1l + n(1) * r2k * r2l + n(2) * (r1k * r2l + r2k * r1l);
-      auto blk = K.block<3, 3>(3 * k, 3 * l);
-      blk(0, 0) += gm;
-      blk(1, 1) += gm;
-      blk(2, 2) += gm;
-      blk(1, 0) += a * cp(2);  // a [c']ₓ
-      blk(0, 1) -= a * cp(2);
-      blk(0, 2) += a * cp(1);
-      blk(2, 0) -= a * cp(1);
-      blk(2, 1) += a * cp(0);
-      blk(1, 2) -= a * cp(0);
+  // Only k ≤ l is needed: row chunks of kChunk functions l against the columns k < l1 (chunks of
+  // 2 measured slower, 8 waste more). Chunks of rows and of points keep Eigen's packed blocks
+  // (≤ 36 × 180 doubles, 52 KB) below its limit for stack allocation: no heap allocation here.
+  constexpr int kChunk = 4, kPointChunk = 36;
+  K.setZero();
+  for (int l0 = 0; l0 < n; l0 += kChunk) {
+    const int l1 = std::min(n, l0 + kChunk);
+    for (int g0 = 0; g0 < G; g0 += kPointChunk) {
+      const int ng = std::min(G, g0 + kPointChunk) - g0;
+      K.block(9 * l0, 0, 9 * (l1 - l0), l1).noalias() +=
+          W.block(9 * l0, kDerivatives * g0, 9 * (l1 - l0), kDerivatives * ng) *
+          Rho.block(kDerivatives * g0, 0, kDerivatives * ng, l1);
     }
   }
 }

@@ -85,15 +85,36 @@ struct Resultants {
 // Energy density per unit reference area ½ (n·E^m + m·E^f) (3.22).
 double energy_density(const Vec3& Em, const Vec3& Ef, const Resultants& s);
 
-// Adds, for the functions k ≤ l (upper block triangle), w·(B_kᵀ D B_l) to K (3n × 3n, block
-// (k, l) at rows 3k, cols 3l), with Cm = w t C and Cb = w t³/12 C (the material part of (3.36)).
-void add_material_stiffness(const BBlocks& B, int n, const Mat3& Cm, const Mat3& Cb, MatX& K);
+// The tangent (3.36) at one point as a bilinear form in the basis derivatives (kl-shell.md §5):
+// with ρ(k) = (R_k,ξ, R_k,η, R_k,ξξ, R_k,ξη, R_k,ηη), rows 1–5 of the basis,
+//   dA·(B_kᵀ D B_l + G_kl) = Σ_ij ρ_i(k) ρ_j(l) T_ij,
+// the T_ij 3 × 3 matrices of the point alone (material part: T_ij = E_iᵀ D E_j, B_k = Σ_i ρ_i(k)
+// E_i).
+inline constexpr int kDerivatives = 5;
+using PointTangent = Mat<3 * kDerivatives, 3 * kDerivatives>;  // block (3i, 3j) = T_ij
+// The same numbers laid out for the element product: column j holds T_0j … T_4j, each
+// column-major, i.e. entry (a, b) of T_ij at (9i + a + 3b, j).
+using PackedTangent = Mat<9 * kDerivatives, kDerivatives>;
+void pack_tangent(const PointTangent& T, PackedTangent& P);
 
-// Adds, for k ≤ l, the whole tangent of (3.36) at a current point: the material part as above
-// and the geometric part n·E^m_** + m·E^f_** with the second variation of the normal n^** (the
-// factored matrix form of kl-shell.md §5); s are the resultants, w the weight dA.
-void add_stiffness(const BasisView& R, const CurrentPoint& cur, const NormalFactors& nf,
-                   const BBlocks& B, const Resultants& s, double w, const Mat3& Cm, const Mat3& Cb,
-                   MatX& K);
+// The strain operator E = [E_ξ, E_η, E_ξξ, E_ξη, E_ηη] (6 × 15) with B_k = Σ_i ρ_i(k) E_i
+// (kl-shell.md §5); so B_kᵀ S = Σ_i ρ_i(k) E_iᵀ S for the residual.
+using StrainOperator = Mat<6, 3 * kDerivatives>;
+void strain_operator(const CurrentPoint& cur, const NormalFactors& nf, StrainOperator& E);
+// The material part T_ij = E_iᵀ D E_j with D = diag(Cm, Cb), Cm = w t C, Cb = w t³/12 C (3.36);
+// a3 is the normal of the point E belongs to.
+void material_tangent(const StrainOperator& E, const Vec3& a3, const Mat3& Cm, const Mat3& Cb,
+                      PointTangent& T);
+// Adds the geometric part n·E^m_** + m·E^f_** (3.36) with the second variation of the normal
+// n^** (kl-shell.md §5); s are the resultants, w the weight dA.
+void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, const Resultants& s,
+                           double w, PointTangent& T);
+
+// The element tangent from the point factors of its G points (kl-shell.md §5, eq. (K)):
+//   K_kl = Σ_g Σ_i ρ_i^g(k) W_i^g(l),   W_i^g(l) = Σ_j T_ij^g ρ_j^g(l).
+// Rho is 5G × n with column k = (ρ^0(k); …; ρ^{G−1}(k)); W is scratch (resized to 9n × 5G).
+// K (9n × n, sized by the caller) receives K_kl column-major in rows 9l … 9l + 8 of column k,
+// for k ≤ l (the upper block triangle of the element matrix); other entries are unspecified.
+void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K);
 
 }  // namespace isoflex::elements::kl
