@@ -438,7 +438,18 @@ TEST(KLShellPatch, MassMatrixTotalMass) {
       }
     EXPECT_EQ(off, 0.0);
     EXPECT_GT(Md.diagonal().minCoeff(), 0.0);
+    // Kinetic energy (3.23) of a rigid translation: ½ m |v|², m = Σ M / 3.
+    if (c.rule == 8) {
+      const Vec3 v(0.3, -1.2, 0.7);
+      VecX xdot(patch.dofs());
+      for (int A = 0; A < patch.control_points(); ++A) xdot.segment<3>(3 * A) = v;
+      const double m = M.sum() / 3.0;
+      EXPECT_NEAR(patch.kinetic_energy(xdot), 0.5 * m * v.squaredNorm(),
+                  1e-13 * m * v.squaredNorm());
+    }
   }
+  EXPECT_THROW(KLShellPatch(cases[0].s, section(1.0, 0.3, t, rho)).kinetic_energy(VecX::Zero(3)),
+               std::invalid_argument);
   EXPECT_EQ(worst_sym, 0.0);
   report("total mass, default rule (rel)", err_default);
   report("total mass, 8x8 rule (rel)", worst);

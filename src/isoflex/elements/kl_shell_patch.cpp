@@ -217,6 +217,12 @@ const SpMat& KLShellPatch::mass() const {
   return impl_->mass;
 }
 
+double KLShellPatch::kinetic_energy(const VecX& velocity) const {
+  if (velocity.size() != dofs())
+    throw std::invalid_argument("KLShellPatch::kinetic_energy: wrong size of the velocity");
+  return 0.5 * velocity.dot(mass() * velocity);
+}
+
 double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
   const Impl& m = *impl_;
   m.check_size(x, "energy");

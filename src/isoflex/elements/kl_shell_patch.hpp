@@ -87,6 +87,8 @@ class KLShellPatch {
   const SpMat& pattern() const;
   // Consistent mass (4.24), ρ t ∫ R_A R_B dA ⊗ I₃, computed once (constant).
   const SpMat& mass() const;
+  // Kinetic energy ½ ẋᵀ M ẋ of control-point velocities ẋ (3.23) with the mass above.
+  double kinetic_energy(const VecX& velocity) const;
   // Stress recovery at the parametric point (ξ, η) (throws std::invalid_argument outside the
   // parameter domain or for NaN). For KLKinematics::linear the frame and the metric are the
   // reference ones (small displacements; point is still the current mid-surface point).
