@@ -168,6 +168,8 @@ TEST(KLPatchLoads, PointLoadForceAndMoment) {
   EXPECT_LT((resultant(f) - F).norm(), 1e-13);
   const Vec3 O(0.3, 0.2, -0.4);
   EXPECT_LT((moment_about(s, f, O) - (P - O).cross(F)).norm(), 1e-12);
+  // At given parameters: the same forces.
+  EXPECT_LT((PointLoad(s, load.xi(), load.eta(), F).force(positions(s)) - f).norm(), 1e-15);
   // Off the surface: 1 mm outside a radius of 1.5.
   const Vec3 off = P * (1.0 + 1e-3 / 1.5);
   const Vec3 off_pt(off.x(), off.y(), P.z());

@@ -100,13 +100,11 @@ KLShellAnalysis KLShellAnalysis::compile(const model::Model& m) {
           a.loads_.push_back(std::make_shared<loads::EdgeMoment>(g, patch_edge(l.edge), l.axis, 1.0,
                                                                  loads::TimeFunction(l.moment)));
           break;
-        case model::KLLoadKind::point_force: {
-          const geometry::SurfacePoint at = geometry::evaluate(g, l.xi, l.eta);
+        case model::KLLoadKind::point_force:  // projected by the reader
           per_component(l.force, a.loads_, [&](const Vec3& d, loads::TimeFunction f) {
-            return std::make_shared<loads::PointLoad>(g, at.x, d, std::move(f));
+            return std::make_shared<loads::PointLoad>(g, l.xi, l.eta, d, std::move(f));
           });
           break;
-        }
       }
     } catch (const std::invalid_argument& e) {
       fail(l.source, "kl_loads", e.what());

@@ -228,8 +228,21 @@ PointLoad::PointLoad(const geometry::NurbsSurface& s, const Vec3& point, const V
                                 fmt_e(point.y()) + ", " + fmt_e(point.z()) +
                                 ") is not on the surface: distance " + fmt_e(pr.distance) +
                                 " > tolerance " + fmt_e(tolerance));
-  xi_ = pr.xi;
-  eta_ = pr.eta;
+  distribute(s, pr.xi, pr.eta, F);
+}
+
+PointLoad::PointLoad(const geometry::NurbsSurface& s, double xi, double eta, const Vec3& F,
+                     TimeFunction factor)
+    : PatchLoad(std::move(factor)) {
+  if (!std::isfinite(xi) || !std::isfinite(eta) || !F.allFinite())
+    throw std::invalid_argument("PointLoad: parameters or force not finite");
+  s.validate();
+  distribute(s, xi, eta, F);
+}
+
+void PointLoad::distribute(const geometry::NurbsSurface& s, double xi, double eta, const Vec3& F) {
+  xi_ = xi;
+  eta_ = eta;
   const geometry::SurfaceBasis B = geometry::surface_basis(s, xi_, eta_);
   f_ = VecX::Zero(3 * static_cast<Eigen::Index>(s.points.size()));
   for (int k = 0; k < static_cast<int>(B.R.cols()); ++k)

@@ -133,11 +133,16 @@ class PointLoad : public PatchLoad {
  public:
   PointLoad(const geometry::NurbsSurface& s, const Vec3& point, const Vec3& F,
             TimeFunction factor = TimeFunction(std::string("t")), double tolerance = 0.0);
+  // The same at known parameters (ξ*, η*) of the surface (a point projected already).
+  PointLoad(const geometry::NurbsSurface& s, double xi, double eta, const Vec3& F,
+            TimeFunction factor = TimeFunction(std::string("t")));
   VecX force(const VecX& x) const override;
   double xi() const { return xi_; }
   double eta() const { return eta_; }
 
  private:
+  void distribute(const geometry::NurbsSurface& s, double xi, double eta, const Vec3& F);
+
   VecX f_;
   double xi_ = 0.0, eta_ = 0.0;
 };
