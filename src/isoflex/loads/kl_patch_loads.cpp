@@ -31,6 +31,17 @@ void reference_tangents(const geometry::NurbsSurface& s, const PatchQuadrature::
   }
 }
 
+// Current tangents a₁, a₂ at a quadrature point.
+void current_tangents(const PatchQuadrature::Point& q, const VecX& x, Vec3& a1, Vec3& a2) {
+  a1.setZero();
+  a2.setZero();
+  for (std::size_t k = 0; k < q.cp.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    a1 += q.R(1, kk) * x.segment<3>(3 * q.cp[k]);
+    a2 += q.R(2, kk) * x.segment<3>(3 * q.cp[k]);
+  }
+}
+
 // f_A = ∫ R_A g(A₁, A₂) dξ dη for a constant-in-x integrand g.
 template <class Integrand>
 VecX integrate_reference(const geometry::NurbsSurface& s, const PatchQuadrature& quad,
@@ -108,12 +119,8 @@ VecX FollowerPressure::force(const VecX& x) const {
                                 " entries, expected " + std::to_string(3 * ncp_));
   VecX f = VecX::Zero(3 * ncp_);
   for (const auto& q : quad_.points) {
-    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
-    for (std::size_t k = 0; k < q.cp.size(); ++k) {
-      const auto kk = static_cast<Eigen::Index>(k);
-      a1 += q.R(1, kk) * x.segment<3>(3 * q.cp[k]);
-      a2 += q.R(2, kk) * x.segment<3>(3 * q.cp[k]);
-    }
+    Vec3 a1, a2;
+    current_tangents(q, x, a1, a2);
     const Vec3 v = (q.weight * p_) * a1.cross(a2);  // p a₃ |a₁ × a₂|
     for (std::size_t k = 0; k < q.cp.size(); ++k)
       f.segment<3>(3 * q.cp[k]) += q.R(0, static_cast<Eigen::Index>(k)) * v;
@@ -125,12 +132,8 @@ void FollowerPressure::add_tangent(const VecX& x, double scale, SpMat& K) const 
   if (x.size() != 3 * ncp_ || K.rows() != 3 * ncp_ || K.cols() != 3 * ncp_)
     throw std::invalid_argument("FollowerPressure::add_tangent: wrong sizes");
   for (const auto& q : quad_.points) {
-    Vec3 a1 = Vec3::Zero(), a2 = Vec3::Zero();
-    for (std::size_t k = 0; k < q.cp.size(); ++k) {
-      const auto kk = static_cast<Eigen::Index>(k);
-      a1 += q.R(1, kk) * x.segment<3>(3 * q.cp[k]);
-      a2 += q.R(2, kk) * x.segment<3>(3 * q.cp[k]);
-    }
+    Vec3 a1, a2;
+    current_tangents(q, x, a1, a2);
     const Mat3 S1 = skew(a1), S2 = skew(a2);
     const double c = scale * p_ * q.weight;
     // ∂(a₁ × a₂)/∂x_B = R_B,η [a₁]× − R_B,ξ [a₂]×.
