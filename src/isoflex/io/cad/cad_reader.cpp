@@ -1,5 +1,3 @@
-#include "isoflex/io/cad/cad_plugin.hpp"
-
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_GlobalSection.hxx>
@@ -30,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "isoflex/io/cad/cad_plugin.hpp"
 #include "isoflex/io/cad/face_trimming.hpp"
 #include "isoflex/io/cad/occt_messages.hpp"
 #include "isoflex/io/cad/occt_nurbs.hpp"
