@@ -38,8 +38,7 @@ std::string refined(const std::string& text, const std::string& refine, int pu, 
 Vec3 ref_displacement(const std::string& text, const std::string& name) {
   const auto m = io::read_model_string(text, name);
   const auto a = integrate::KLShellAnalysis::compile(m);
-  integrate::KLStaticSolver solver(a.patch(), a.loads(), a.boundary_conditions(), a.settings(),
-                                   a.kinematics());
+  integrate::KLStaticSolver solver = a.solver();
   const auto r = solver.solve();
   const auto& probe = a.probes().at(0);
   EXPECT_EQ(probe.name, "ref");

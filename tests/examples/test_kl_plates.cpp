@@ -32,8 +32,7 @@ using test::replaced;
 std::vector<std::pair<double, Vec3>> probe_path(const std::string& text, const std::string& name) {
   const model::Model m = io::read_model_string(text, name);
   const auto a = integrate::KLShellAnalysis::compile(m);
-  integrate::KLStaticSolver solver(a.patch(), a.loads(), a.boundary_conditions(), a.settings(),
-                                   a.kinematics());
+  integrate::KLStaticSolver solver = a.solver();
   const integrate::KLProbe& probe = a.probes().at(0);
   EXPECT_EQ(probe.name, "ref");
   std::vector<std::pair<double, Vec3>> out;

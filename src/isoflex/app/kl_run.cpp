@@ -85,8 +85,7 @@ int run_kl_static(const std::string& model_file, const model::Model& m,
   vtk.write(0, 0.0, X);
   sum.energy_initial = snap.total_energy;
 
-  integrate::KLStaticSolver solver(a.patch(), a.loads(), a.boundary_conditions(), a.settings(),
-                                   a.kinematics());
+  integrate::KLStaticSolver solver = a.solver();
   VecX last = X;
   int code = 0;
   const auto t0 = std::chrono::steady_clock::now();

@@ -111,30 +111,30 @@ KLShellAnalysis KLShellAnalysis::compile(const model::Model& m) {
     }
   }
 
-  auto bcs = std::make_shared<KLBoundaryConditions>(g);
+  KLBoundaryConditions bcs(g);
   for (const model::KLSupport& sup : m.kl_supports) {
     try {
       if (sup.edge.empty()) {
-        for (int cp : sup.control_points) bcs->fix_control_point(cp, mask(sup.components));
+        for (int cp : sup.control_points) bcs.fix_control_point(cp, mask(sup.components));
         continue;
       }
       const loads::PatchEdge e = patch_edge(sup.edge);
       switch (sup.kind) {
         case model::KLSupportKind::fixed:
-          bcs->fix_edge(e, mask(sup.components));
+          bcs.fix_edge(e, mask(sup.components));
           break;
         case model::KLSupportKind::clamped:
-          bcs->clamp_edge(e, mask(sup.components));
+          bcs.clamp_edge(e, mask(sup.components));
           break;
         case model::KLSupportKind::symmetry:
-          bcs->symmetry_edge(e, sup.normal);
+          bcs.symmetry_edge(e, sup.normal);
           break;
         case model::KLSupportKind::displacement: {
           auto f = std::make_shared<std::array<loads::TimeFunction, 3>>(
               std::array<loads::TimeFunction, 3>{loads::TimeFunction(sup.displacement[0]),
                                                  loads::TimeFunction(sup.displacement[1]),
                                                  loads::TimeFunction(sup.displacement[2])});
-          bcs->prescribe_edge(
+          bcs.prescribe_edge(
               e, [f](double t, const Vec3&) { return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t)); });
           break;
         }
@@ -143,8 +143,7 @@ KLShellAnalysis KLShellAnalysis::compile(const model::Model& m) {
       fail(sup.source, "kl_supports", e.what());
     }
   }
-  a.constraints_ = bcs->constraints();
-  a.bcs_ = std::move(bcs);
+  a.constraints_ = bcs.constraints();
 
   a.settings_.t_end = m.solver.t_end;
   a.settings_.steps = std::max(1, static_cast<int>(std::lround(m.solver.t_end / m.solver.dt)));

@@ -31,11 +31,14 @@ class KLShellAnalysis {
   const model::KLShell& shell() const { return shell_; }
   const elements::KLShellPatch& patch() const { return *patch_; }
   const PatchLoads& loads() const { return loads_; }
-  const KLBoundaryConditions& boundary_conditions() const { return *bcs_; }
   const LinearConstraints& constraints() const { return constraints_; }
   elements::KLKinematics kinematics() const { return kinematics_; }
   const StaticSettings& settings() const { return settings_; }
   const std::vector<KLProbe>& probes() const { return probes_; }
+  // The load-stepping solver of this analysis (its constraints are the ones computed here).
+  KLStaticSolver solver() const {
+    return KLStaticSolver(*patch_, loads_, constraints_, settings_, kinematics_);
+  }
 
   int eliminated() const { return static_cast<int>(constraints_.eliminated.size()); }
   int multipliers() const { return constraints_.multipliers(); }
@@ -48,7 +51,6 @@ class KLShellAnalysis {
   model::KLShell shell_;
   std::shared_ptr<const elements::KLShellPatch> patch_;
   PatchLoads loads_;
-  std::shared_ptr<const KLBoundaryConditions> bcs_;
   LinearConstraints constraints_;
   elements::KLKinematics kinematics_ = elements::KLKinematics::nonlinear;
   StaticSettings settings_;

@@ -32,6 +32,10 @@ class KLStaticSolver {
   KLStaticSolver(const elements::KLShellPatch& patch, PatchLoads loads,
                  const KLBoundaryConditions& bcs, StaticSettings settings,
                  elements::KLKinematics kinematics = elements::KLKinematics::nonlinear);
+  // The same with the conditions already turned into constraints (bcs.constraints()).
+  KLStaticSolver(const elements::KLShellPatch& patch, PatchLoads loads,
+                 LinearConstraints constraints, StaticSettings settings,
+                 elements::KLKinematics kinematics = elements::KLKinematics::nonlinear);
   // Final x (full, 3·ncp), multipliers, per-step statistics; observer(stats, x) per load step.
   StaticResult solve(const StaticObserver& observer = {}) { return solver_.solve(observer); }
   const DofMap& dofs() const { return solver_.dofs(); }
