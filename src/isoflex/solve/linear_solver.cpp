@@ -11,7 +11,16 @@ namespace isoflex::solve {
 
 namespace {
 bool use_dense(const SpMat& A);
+
+// Numeric LU of A (pattern analysed already) and the solution of A x = b.
+VecX factorize_and_solve(Eigen::UmfPackLU<SpMat>& lu, const SpMat& A, const VecX& b) {
+  lu.factorize(A);
+  if (lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
+  VecX x = lu.solve(b);
+  if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
+  return x;
 }
+}  // namespace
 
 VecX solve(const SpMat& A, const VecX& b) {
   if (use_dense(A)) {
@@ -24,11 +33,7 @@ VecX solve(const SpMat& A, const VecX& b) {
   }
   Eigen::UmfPackLU<SpMat> lu;
   lu.analyzePattern(A);
-  lu.factorize(A);
-  if (lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
-  VecX x = lu.solve(b);
-  if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
-  return x;
+  return factorize_and_solve(lu, A, b);
 }
 
 namespace {
@@ -82,11 +87,7 @@ VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
   if (use_dense(A)) return solve::solve(A, b);
   Impl& m = *impl_;
   analyze_if_new_pattern(m.lu, m.pattern, A);
-  m.lu.factorize(A);
-  if (m.lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
-  VecX x = m.lu.solve(b);
-  if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
-  return x;
+  return factorize_and_solve(m.lu, A, b);
 }
 
 struct FixedPatternLDLT::Impl {
