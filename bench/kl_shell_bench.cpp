@@ -7,7 +7,7 @@
 //   kl_shell_bench --mode assembly|split|scaling|solvers [--degrees 2,3,4,5] [--n 50]
 //                  [--sizes 10,20,40,70,100,140,180] [--kinematics linear,nonlinear]
 //                  [--load-factor F] [--steps S] [--min-seconds T] [--repeat R]
-//                  [--max-seconds S] [--tangent-only]
+//                  [--max-seconds S] [--tangent-only] [--threads T]
 //
 // The patch: the Scordelis–Lo roof (IGA-thesis §6.4.1.2), the full roof, not the quarter: the
 // cylinder sector geometry::cylinder_sector(R = 25, L = 50, 80°) (ξ along the arc from +x, η along
@@ -20,7 +20,8 @@
 // (ξ = 0, η = ½) at F = 1: −0.3024.
 //
 // Modes (every time is the process CPU time, CLOCK_PROCESS_CPUTIME_ID, with the wall time next to
-// it; the program is single-threaded):
+// it; only the patch assembly runs on --threads T threads, default 1, KLShellPatch::set_threads;
+// with T > 1 the CPU times add up the threads, so compare wall times):
 //   assembly  per p on the N × N patch at a deformed state x = X + u (u smooth, |u| ≈ 0.1):
 //             KLShellPatch::internal_force with tangent and without (nonlinear), and with the
 //             linear tangent (the first call, which computes K_lin and caches it in the patch, on
@@ -54,6 +55,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "bench_cli.hpp"
@@ -89,6 +91,7 @@ struct Options {
   int repeat = 3;
   double max_seconds = 0.0;
   bool tangent_only = false;  // assembly: time the nonlinear residual + tangent only (profiling)
+  int threads = 1;            // KLShellPatch::set_threads
 };
 
 [[noreturn]] void usage(const std::string& msg) {
@@ -98,7 +101,7 @@ struct Options {
                "                      [--n 50] [--sizes 10,20,40,70,100,140,180]\n"
                "                      [--kinematics linear,nonlinear] [--load-factor 5]\n"
                "                      [--steps 2] [--min-seconds 1] [--repeat 3]\n"
-               "                      [--max-seconds S] [--tangent-only]\n",
+               "                      [--max-seconds S] [--tangent-only] [--threads 1]\n",
                msg.c_str());
   std::exit(2);
 }
@@ -162,6 +165,9 @@ Options parse(int argc, char** argv) {
       o.repeat = static_cast<int>(bench::parse_int(value(), "repeat count", usage));
     } else if (a == "--max-seconds") {
       o.max_seconds = bench::parse_double(value(), "time limit", usage);
+    } else if (a == "--threads") {
+      o.threads = static_cast<int>(bench::parse_int(value(), "thread count", usage));
+      if (o.threads < 1) usage("--threads must be >= 1");
     } else if (a == "--tangent-only") {
       o.tangent_only = true;
     } else if (a == "-h" || a == "--help") {
@@ -208,8 +214,10 @@ geometry::NurbsSurface roof(int p, int N) {
                             N - 1, N - 1);
 }
 
-elements::KLShellPatch roof_patch(const geometry::NurbsSurface& s) {
-  return elements::KLShellPatch(s, elements::KLShellSection{kYoung, kPoisson, kThickness, 1.0});
+elements::KLShellPatch roof_patch(const geometry::NurbsSurface& s, int threads) {
+  elements::KLShellPatch patch(s, elements::KLShellSection{kYoung, kPoisson, kThickness, 1.0});
+  patch.set_threads(threads);
+  return patch;
 }
 
 integrate::KLBoundaryConditions roof_supports(const geometry::NurbsSurface& s) {
@@ -308,7 +316,7 @@ void run_assembly(const Options& o) {
   for (int p : o.degrees) {
     const double c0 = cpu_seconds();
     const auto s = roof(p, o.n);
-    const auto patch = roof_patch(s);
+    const auto patch = roof_patch(s, o.threads);
     const double setup = cpu_seconds() - c0;
     const VecX x = deformed(patch);
     const double qp = patch.quadrature_points();
@@ -369,7 +377,7 @@ SolveRun run_static(int p, int N, KLKinematics kin, const Options& o) {
   r.kin = kin;
   const double c0 = cpu_seconds();
   const auto s = roof(p, N);
-  const auto patch = roof_patch(s);
+  const auto patch = roof_patch(s, o.threads);
   const auto bcs = roof_supports(s);
   // Linear kinematics: the roof benchmark itself, one load step of the plain self-weight.
   const bool linear = kin == KLKinematics::linear;
@@ -535,7 +543,7 @@ void run_solvers(const Options& o) {
   for (int p : o.degrees)
     for (int N : o.sizes) {
       const auto s = roof(p, N);
-      const auto patch = roof_patch(s);
+      const auto patch = roof_patch(s, o.threads);
       const auto cons = roof_supports(s).constraints();
       const auto dm = integrate::DofMap::build(patch.dofs(), cons.eliminated);
       const SpMat A = free_matrix(patch, dm);
@@ -581,6 +589,8 @@ void run_solvers(const Options& o) {
 
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
+  fmt::print("assembly threads: {} (hardware threads: {})\n", o.threads,
+             std::thread::hardware_concurrency());
   try {
     switch (o.mode) {
       case Mode::assembly:

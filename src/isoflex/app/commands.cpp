@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "isoflex/app/kl_run.hpp"
 #include "isoflex/app/progress.hpp"
@@ -175,7 +177,13 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     return 2;
   }
 
-  if (l->kl) return run_kl_static(o.model_file, m, *l->kl, outdir, out, err);
+  if (l->kl) {
+    const int threads = o.threads > 0
+                            ? o.threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    l->kl->set_threads(threads);
+    return run_kl_static(o.model_file, m, *l->kl, outdir, out, err);
+  }
   const auto& sys = *l->sys;
   integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   const integrate::StaticEquilibrium statics(sys, m.solver);

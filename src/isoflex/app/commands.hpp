@@ -16,6 +16,9 @@ struct RunOptions {
   std::optional<double> dt, t_end;
   // Static equilibrium with load stepping (integrate::StaticEquilibrium): t is a load parameter.
   bool statics = false;
+  // Threads of the Kirchhoff–Love shell assembly; 0 = every hardware thread. Results do not
+  // depend on it (elements::ColouredElementLoop).
+  int threads = 0;
 };
 
 int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);

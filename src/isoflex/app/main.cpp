@@ -24,6 +24,10 @@ int main(int argc, char** argv) {
   r->add_option("--t-end", run.t_end, "end time (overrides the model)");
   r->add_flag("--static", run.statics,
               "static equilibrium at t = dt, 2 dt, ..., t_end (t as a load parameter)");
+  r->add_option("--threads", run.threads,
+                "threads of the Kirchhoff-Love shell assembly (default 0: all cores; results "
+                "are the same for any number)")
+      ->check(CLI::NonNegativeNumber);
 
   std::string check_file;
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");

@@ -251,6 +251,8 @@ DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, cons
     nodal_normal_areas_ += wj * geo.normal * N.transpose();
     mass_n_ += wj * N * N.transpose();
   }
+  // Symmetric bit for bit: with FMA contraction (wN_a)N_b and (wN_b)N_a round differently.
+  mass_n_ = 0.5 * (mass_n_ + mass_n_.transpose()).eval();
 
   Q q0e = q0;
   const Jacobian B0 = strain_jacobian(q0e);

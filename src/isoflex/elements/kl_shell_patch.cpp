@@ -37,6 +37,15 @@ kl::BasisView view(const geometry::ElementBasis& eb, int g) {
 using LocalVector =
     Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kl::kMaxFunctions, 1>;
 
+// What one thread of internal_force works in.
+struct ElementWork {
+  geometry::ElementBasis eb;
+  kl::LocalPoints xl, Xl;
+  LocalVector re;
+  std::vector<kl::PackedTangent> Tg;
+  MatX Rho, W, Ke;
+};
+
 }  // namespace
 
 VecX KLShellPatch::Impl::reference_positions() const {
@@ -49,6 +58,13 @@ void KLShellPatch::Impl::gather(const VecX& x, int e, kl::LocalPoints& xl) const
   xl.resize(3, n_fun);
   const int* c = conn.data() + static_cast<std::size_t>(e) * n_fun;
   for (int k = 0; k < n_fun; ++k) xl.col(k) = x.segment<3>(3 * c[k]);
+}
+
+int KLShellPatch::Impl::workers(int threads) const {
+  // Below ~2000 quadrature points per thread the start of a thread costs more than it saves.
+  constexpr std::size_t kPointsPerWorker = 2048;
+  const auto most = static_cast<int>(std::max<std::size_t>(1, points.size() / kPointsPerWorker));
+  return std::clamp(threads, 1, most);
 }
 
 void KLShellPatch::Impl::check_size(const VecX& x, const char* what) const {
@@ -89,6 +105,12 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
   m.rule_u = geometry::gauss_legendre(rule_u > 0 ? rule_u : p + 1);
   m.rule_v = geometry::gauss_legendre(rule_v > 0 ? rule_v : q + 1);
   m.elems = geometry::surface_elements(m.ref);
+  {
+    // Blocks of p × q elements: blocks of one colour share no control point.
+    int nu = 0;
+    while (nu < static_cast<int>(m.elems.size()) && m.elems[nu].span_v == m.elems[0].span_v) ++nu;
+    m.loop = ColouredElementLoop(nu, static_cast<int>(m.elems.size()) / nu, p, q);
+  }
   m.n_fun = (p + 1) * (q + 1);
   m.n_qp = m.rule_u.size() * m.rule_v.size();
   const int ne = static_cast<int>(m.elems.size());
@@ -270,10 +292,6 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
   const int nf = m.n_fun;
   const VecX X = linear ? m.reference_positions() : VecX();
   VecX r = VecX::Zero(x.size());
-  // Tangent work space, allocated once per call: the point factors T^g of one element, the basis
-  // derivatives ρ^g(k) (5G × n), the scratch W and the element blocks K_kl (kl-shell.md §5).
-  std::vector<kl::PackedTangent> Tg;
-  MatX Rho, W, Ke;
   bool tangent = K != nullptr;  // false: K is the cached linear tangent
   if (K) {
     const SpMat& P = m.pattern;
@@ -290,23 +308,33 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
       }
     }
   }
-  if (tangent) {
-    std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
-    Tg.resize(static_cast<std::size_t>(m.n_qp));
-    Rho.resize(kl::kDerivatives * m.n_qp, nf);
-    Ke.resize(9 * nf, nf);
+  if (tangent) std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
+  // One work space per thread, allocated once per call: the point factors T^g of one element,
+  // the basis derivatives ρ^g(k) (5G × n), the scratch W and the element blocks K_kl
+  // (kl-shell.md §5).
+  const int workers = m.workers(threads_);
+  std::vector<ElementWork> work(static_cast<std::size_t>(workers));
+  for (ElementWork& w : work) {
+    w.re.resize(3 * nf);
+    if (!tangent) continue;
+    w.Tg.resize(static_cast<std::size_t>(m.n_qp));
+    w.Rho.resize(kl::kDerivatives * m.n_qp, nf);
+    w.Ke.resize(9 * nf, nf);
   }
-  geometry::ElementBasis eb;
-  kl::LocalPoints xl, Xl;
-  kl::StrainOperator E;
-  kl::PointTangent T;
-  LocalVector re(3 * nf);
-  for (int e = 0; e < static_cast<int>(m.elems.size()); ++e) {
+  // Elements of one colour share no control point (coloured_element_loop.hpp): their scatters
+  // into r and K do not overlap.
+  m.loop.run(workers, [&](int e, int worker) {
+    ElementWork& w = work[static_cast<std::size_t>(worker)];
+    kl::LocalPoints& xl = w.xl;
+    geometry::ElementBasis& eb = w.eb;
+    LocalVector& re = w.re;
+    kl::StrainOperator E;
+    kl::PointTangent T;
     geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
     m.gather(x, e, xl);
     if (linear) {
-      m.gather(X, e, Xl);
-      xl -= Xl;  // u = x − X
+      m.gather(X, e, w.Xl);
+      xl -= w.Xl;  // u = x − X
     }
     re.setZero();
     for (int g = 0; g < m.n_qp; ++g) {
@@ -337,9 +365,10 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
         // the material part at the reference.
         kl::material_tangent(E, cur.a3, (ref.dA * t) * ref.C, (ref.dA * tb) * ref.C, T);
         if (!linear) kl::add_geometric_tangent(cur, nfac, s, ref.dA, T);
-        kl::pack_tangent(T, Tg[static_cast<std::size_t>(g)]);
+        kl::pack_tangent(T, w.Tg[static_cast<std::size_t>(g)]);
         for (int k = 0; k < nf; ++k)
-          for (int i = 0; i < kl::kDerivatives; ++i) Rho(kl::kDerivatives * g + i, k) = R(1 + i, k);
+          for (int i = 0; i < kl::kDerivatives; ++i)
+            w.Rho(kl::kDerivatives * g + i, k) = R(1 + i, k);
       }
       // IGA-thesis (3.34)–(3.35): a(u, v) = ∫ (n·E^m_*(v) + m·E^f_*(v)) ν₀ dϑ, i.e.
       // r_k += B_kᵀ S dA = Σ_i ρ_i(k) E_iᵀ S dA.
@@ -355,7 +384,8 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
     const int* c = m.conn.data() + static_cast<std::size_t>(e) * nf;
     for (int k = 0; k < nf; ++k) r.segment<3>(3 * c[k]) += re.segment<3>(3 * k);
     if (tangent) {
-      kl::element_tangent(Tg.data(), m.n_qp, Rho, W, Ke);
+      kl::element_tangent(w.Tg.data(), m.n_qp, w.Rho, w.W, w.Ke);
+      const MatX& Ke = w.Ke;
       // Scatter by the precomputed positions; Ke holds the upper block triangle (k ≤ l), block
       // (k, l) column-major in rows 9l … 9l + 8 of column k.
       double* val = K->valuePtr();
@@ -377,7 +407,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
         }
       }
     }
-  }
+  });
   if (tangent && linear) {
     const std::lock_guard<std::mutex> lock(m.linear_mutex);
     m.linear_values.assign(K->valuePtr(), K->valuePtr() + K->nonZeros());

@@ -82,6 +82,11 @@ class KLShellPatch {
   // pattern is the same on every call, compressed). A K that already has the pattern (same size,
   // compressed, same outer index) keeps its storage; any other K is replaced by a copy of it.
   VecX internal_force(const VecX& x, KLKinematics kin, SpMat* K) const;
+  // Threads of internal_force (1 by default; fewer than asked on small patches, ~2000 quadrature
+  // points per thread at least). The elements run in coloured blocks in a fixed order
+  // (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of threads.
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+  int threads() const { return threads_; }
   // The fixed sparsity pattern of K (3ncp × 3ncp, every pair of control points sharing an
   // element, all 3 × 3 blocks), values zero, compressed.
   const SpMat& pattern() const;
@@ -97,6 +102,7 @@ class KLShellPatch {
  private:
   struct Impl;
   std::shared_ptr<const Impl> impl_;
+  int threads_ = 1;
 };
 
 }  // namespace isoflex::elements

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/elements/coloured_element_loop.hpp"
 #include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/elements/kl_shell_point.hpp"
 #include "isoflex/geometry/quadrature.hpp"
@@ -16,8 +17,9 @@ struct KLShellPatch::Impl {
   KLShellSection sec;
   geometry::GaussRule rule_u, rule_v;
   std::vector<geometry::SurfaceElement> elems;
-  int n_fun = 0;  // (p+1)(q+1), local functions per element
-  int n_qp = 0;   // quadrature points per element
+  ColouredElementLoop loop;  // the elements in blocks of p × q, for the threaded assembly
+  int n_fun = 0;             // (p+1)(q+1), local functions per element
+  int n_qp = 0;              // quadrature points per element
   // Pre-evaluated reference geometry (§6.2.2), point g of element e at e·n_qp + g.
   std::vector<kl::ReferencePoint> points;
   // Global control point of local function k of element e at e·n_fun + k.
@@ -34,6 +36,8 @@ struct KLShellPatch::Impl {
   mutable std::vector<double> linear_values;
 
   VecX reference_positions() const;
+  // Threads internal_force uses when asked for `threads` (fewer on small patches).
+  int workers(int threads) const;
   // Local control points of element e taken from x (3·ncp).
   void gather(const VecX& x, int e, kl::LocalPoints& xl) const;
   void check_size(const VecX& x, const char* what) const;

@@ -158,6 +158,12 @@ KLShellAnalysis KLShellAnalysis::compile(const model::Model& m) {
   return a;
 }
 
+void KLShellAnalysis::set_threads(int threads) {
+  auto p = std::make_shared<elements::KLShellPatch>(*patch_);  // shares the pre-evaluated data
+  p->set_threads(threads);
+  patch_ = std::move(p);
+}
+
 Vec3 KLShellAnalysis::point(const VecX& x, double xi, double eta) const {
   const geometry::NurbsSurface& g = patch_->reference();
   const geometry::SurfaceBasis B = geometry::surface_basis(g, xi, eta);

@@ -30,6 +30,9 @@ class KLShellAnalysis {
 
   const model::KLShell& shell() const { return shell_; }
   const elements::KLShellPatch& patch() const { return *patch_; }
+  // Threads of the patch's assembly (elements::KLShellPatch::set_threads); call it before
+  // solver(), whose problem refers to the patch.
+  void set_threads(int threads);
   const PatchLoads& loads() const { return loads_; }
   const LinearConstraints& constraints() const { return constraints_; }
   elements::KLKinematics kinematics() const { return kinematics_; }

@@ -93,6 +93,7 @@ std::string summary_json(const RunSummary& s) {
   real("dt", s.dt);
   real("t_end", s.t_end);
   real("wall_time_s", s.wall_time_s);
+  integer("threads", s.threads);
   real("max_constraint_violation", s.max_constraint_violation);
   real("energy_initial", s.energy_initial);
   real("energy_final", s.energy_final);
