@@ -8,7 +8,7 @@
 // after the other, the blocks of a colour are shared out among the threads, and inside a block the
 // elements run in their natural order: every global entry receives its element contributions in
 // the same order whatever the number of threads, so the sums agree bit for bit
-// (docs/theory/kl-shell.md §7).
+// (docs/theory/kl-shell.md §6).
 #include <functional>
 #include <vector>
 
