@@ -182,7 +182,7 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-// CPU time of the process (the program is single-threaded).
+// CPU time of the process, all its threads (--threads; CHOLMOD may add an OpenMP thread).
 double cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
