@@ -93,6 +93,8 @@ TEST(KLCli, StaticRunWritesOutputsAndTheProbe) {
   for (const char* name : {"displacement", "\"n\"", "\"m\"", "sigma_top", "sigma_bottom",
                            "principal_top", "von_mises_top", "von_mises_bottom", "e1"})
     EXPECT_NE(vtu.find(name), std::string::npos) << name;
+  // 1 024 quadrature points: one assembly thread whatever --threads asks (default: all cores).
+  EXPECT_NE(summary.find("\"threads\": 1,"), std::string::npos) << summary;
   const std::string pvd = read(d / "out" / "results.pvd");
   EXPECT_NE(pvd.find("timestep=\"1\" part=\"0\" file=\"vtk/step_000002.vtu\""), std::string::npos)
       << pvd;

@@ -557,6 +557,7 @@ TEST(KLShellPatch, ThreadsGiveTheSameResultBitForBit) {
     for (int threads : {2, 3, 4}) {
       patch.set_threads(threads);
       EXPECT_EQ(patch.threads(), threads);
+      EXPECT_EQ(patch.threads_used(), threads);  // 9 216 points: up to 4
       const VecX r = patch.internal_force(x, kin, &K);
       EXPECT_EQ(r, r1) << threads;
       ASSERT_EQ(K.nonZeros(), K1.nonZeros());
@@ -564,6 +565,8 @@ TEST(KLShellPatch, ThreadsGiveTheSameResultBitForBit) {
       EXPECT_EQ(patch.internal_force(x, kin, nullptr), r1) << threads;
     }
   }
+  patch.set_threads(8);
+  EXPECT_EQ(patch.threads_used(), 4);
   patch.set_threads(0);
   EXPECT_EQ(patch.threads(), 1);
 }

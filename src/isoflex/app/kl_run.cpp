@@ -77,7 +77,7 @@ int run_kl_static(const std::string& model_file, const model::Model& m,
   sum.n_unknowns = a.unknowns();
   sum.dt = a.settings().t_end / a.settings().steps;
   sum.t_end = a.settings().t_end;
-  sum.threads = a.patch().threads();
+  sum.threads = a.patch().threads_used();
   sum.max_energy_drift_after_loads = std::nan("");
 
   const VecX X = a.patch().reference_positions();

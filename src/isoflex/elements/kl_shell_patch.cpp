@@ -232,6 +232,9 @@ std::size_t KLShellPatch::reference_bytes_per_point() const {
 VecX KLShellPatch::reference_positions() const {
   return impl_->reference_positions();
 }
+int KLShellPatch::threads_used() const {
+  return impl_->workers(threads_);
+}
 const SpMat& KLShellPatch::pattern() const {
   return impl_->pattern;
 }

@@ -87,6 +87,8 @@ class KLShellPatch {
   // (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of threads.
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
+  // The threads internal_force actually runs on: threads(), at most one per 2 048 points.
+  int threads_used() const;
   // The fixed sparsity pattern of K (3ncp × 3ncp, every pair of control points sharing an
   // element, all 3 × 3 blocks), values zero, compressed.
   const SpMat& pattern() const;

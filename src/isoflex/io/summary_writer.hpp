@@ -22,7 +22,7 @@ struct RunSummary {
   double dt = 0.0;
   double t_end = 0.0;
   double wall_time_s = 0.0;
-  int threads = 1;  // threads of the element assembly (Kirchhoff–Love shells; 1 otherwise)
+  int threads = 1;  // threads the element assembly ran on (Kirchhoff–Love shells; 1 otherwise)
   double max_constraint_violation = 0.0;
   double energy_initial = 0.0;
   double energy_final = 0.0;
