@@ -6,6 +6,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -58,7 +59,13 @@ void ColouredElementLoop::run(int threads, const std::function<void(int, int)>& 
     };
     const int n_blocks = colour_start_[c + 1] - colour_start_[c];
     std::vector<std::jthread> pool;
-    for (int w = 1; w < std::min(threads, n_blocks); ++w) pool.emplace_back(work, w);
+    for (int w = 1; w < std::min(threads, n_blocks); ++w) {
+      try {
+        pool.emplace_back(work, w);
+      } catch (const std::system_error&) {
+        break;  // no more threads to be had: the ones running share the blocks, same results
+      }
+    }
     work(0);
     pool.clear();  // joins
     if (error) std::rethrow_exception(error);
