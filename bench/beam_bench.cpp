@@ -64,30 +64,23 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--n") {
-      o.ns.clear();
-      for (const auto& s : bench::split(value()))
-        o.ns.push_back(static_cast<int>(bench::parse_int(s, "N", usage)));
-      if (o.ns.empty()) usage("--n needs at least one N");
-    } else if (a == "--steps") {
-      o.steps = static_cast<int>(bench::parse_int(value(), "step count", usage));
-    } else if (a == "--formulations") {
-      o.formulations = bench::parse_formulations(value(), usage);
-    } else if (a == "--dt") {
-      o.dt = bench::parse_double(value(), "time step", usage);
+  bench::Args args(argc, argv, usage);
+  while (args.next()) {
+    if (args.is("--n")) {
+      o.ns = args.counts("N");
+    } else if (args.is("--steps")) {
+      o.steps = args.count("step count");
+    } else if (args.is("--formulations")) {
+      o.formulations = bench::parse_formulations(args.value(), usage);
+    } else if (args.is("--dt")) {
+      o.dt = args.number("time step");
       if (!(o.dt > 0)) usage("--dt must be positive");
-    } else if (a == "--repeat") {
-      o.repeat = static_cast<int>(bench::parse_int(value(), "repeat count", usage));
-    } else if (a == "--max-seconds") {
-      o.max_seconds = bench::parse_double(value(), "time limit", usage);
-    } else if (a == "--reduced") {
-      const std::string v = value();
+    } else if (args.is("--repeat")) {
+      o.repeat = args.count("repeat count");
+    } else if (args.is("--max-seconds")) {
+      o.max_seconds = args.number("time limit");
+    } else if (args.is("--reduced")) {
+      const std::string v = args.value();
       if (v == "automatic")
         o.reduced = integrate::ReducedSolve::automatic;
       else if (v == "explicit")
@@ -98,10 +91,8 @@ Options parse(int argc, char** argv) {
         o.reduced = integrate::ReducedSolve::blocks;
       else
         usage(fmt::format("unknown --reduced '{}'", v));
-    } else if (a == "-h" || a == "--help") {
-      usage("help");
     } else {
-      usage(fmt::format("unknown argument '{}'", a));
+      args.unknown();
     }
   }
   return o;

@@ -1,6 +1,7 @@
 #pragma once
-// Command-line values shared by the benchmark programs: comma lists, positive counts, times and
-// formulation names. `usage` is the program's own [[noreturn]] error exit (message, exit code 2).
+// Command-line values shared by the benchmark programs: the walk over the arguments, comma lists,
+// positive counts, times and formulation names. `usage` is the program's own [[noreturn]] error
+// exit (message, exit code 2).
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -51,5 +52,47 @@ inline std::vector<model::Formulation> parse_formulations(const std::string& lis
   if (out.empty()) usage("--formulations needs at least one formulation");
   return out;
 }
+
+// The walk over argv: `while (args.next())` visits each argument, `is("--x")` names it, `value()`
+// takes the one after it (usage() when there is none), `count`, `number` and `counts` parse it.
+class Args {
+ public:
+  Args(int argc, char** argv, Usage usage) : argc_(argc), argv_(argv), usage_(usage) {}
+
+  bool next() {
+    if (++i_ >= argc_) return false;
+    arg_ = argv_[i_];
+    return true;
+  }
+  const std::string& arg() const { return arg_; }
+  bool is(const char* name) const { return arg_ == name; }
+
+  std::string value() {
+    if (i_ + 1 >= argc_) usage_(arg_ + " needs a value");
+    return argv_[++i_];
+  }
+  int count(const std::string& what) { return static_cast<int>(parse_int(value(), what, usage_)); }
+  double number(const std::string& what) { return parse_double(value(), what, usage_); }
+  // A comma list of counts > 0, at least one.
+  std::vector<int> counts(const std::string& what) {
+    std::vector<int> out;
+    for (const auto& s : split(value()))
+      out.push_back(static_cast<int>(parse_int(s, what, usage_)));
+    if (out.empty()) usage_(arg_ + " needs at least one " + what);
+    return out;
+  }
+  // -h, --help or an argument the program does not know.
+  [[noreturn]] void unknown() const {
+    usage_(arg_ == "-h" || arg_ == "--help" ? "help" : fmt::format("unknown argument '{}'", arg_));
+    std::exit(2);
+  }
+
+ private:
+  int argc_;
+  char** argv_;
+  Usage usage_;
+  int i_ = 0;
+  std::string arg_;
+};
 
 }  // namespace isoflex::bench

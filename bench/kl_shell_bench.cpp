@@ -108,21 +108,10 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(a + " needs a value");
-      return argv[++i];
-    };
-    auto int_list = [&](const std::string& what) {
-      std::vector<int> out;
-      for (const auto& s : bench::split(value()))
-        out.push_back(static_cast<int>(bench::parse_int(s, what, usage)));
-      if (out.empty()) usage(a + " needs at least one value");
-      return out;
-    };
-    if (a == "--mode") {
-      const std::string v = value();
+  bench::Args args(argc, argv, usage);
+  while (args.next()) {
+    if (args.is("--mode")) {
+      const std::string v = args.value();
       o.mode_given = true;
       if (v == "assembly")
         o.mode = Mode::assembly;
@@ -134,18 +123,18 @@ Options parse(int argc, char** argv) {
         o.mode = Mode::solvers;
       else
         usage(fmt::format("unknown mode '{}'", v));
-    } else if (a == "--degrees") {
-      o.degrees = int_list("degree");
+    } else if (args.is("--degrees")) {
+      o.degrees = args.counts("degree");
       o.degrees_given = true;
       for (int p : o.degrees)
         if (p < 2 || p > 5) usage(fmt::format("degree {} outside 2 … 5", p));
-    } else if (a == "--n") {
-      o.n = static_cast<int>(bench::parse_int(value(), "N", usage));
-    } else if (a == "--sizes") {
-      o.sizes = int_list("size");
-    } else if (a == "--kinematics") {
+    } else if (args.is("--n")) {
+      o.n = args.count("N");
+    } else if (args.is("--sizes")) {
+      o.sizes = args.counts("size");
+    } else if (args.is("--kinematics")) {
       o.kinematics.clear();
-      for (const auto& s : bench::split(value())) {
+      for (const auto& s : bench::split(args.value())) {
         if (s == "linear")
           o.kinematics.push_back(KLKinematics::linear);
         else if (s == "nonlinear")
@@ -154,26 +143,23 @@ Options parse(int argc, char** argv) {
           usage(fmt::format("unknown kinematics '{}'", s));
       }
       if (o.kinematics.empty()) usage("--kinematics needs at least one value");
-    } else if (a == "--load-factor") {
-      o.load_factor = bench::parse_double(value(), "load factor", usage);
+    } else if (args.is("--load-factor")) {
+      o.load_factor = args.number("load factor");
       if (!(o.load_factor > 0)) usage("--load-factor must be positive");
-    } else if (a == "--steps") {
-      o.steps = static_cast<int>(bench::parse_int(value(), "step count", usage));
-    } else if (a == "--min-seconds") {
-      o.min_seconds = bench::parse_double(value(), "time", usage);
-    } else if (a == "--repeat") {
-      o.repeat = static_cast<int>(bench::parse_int(value(), "repeat count", usage));
-    } else if (a == "--max-seconds") {
-      o.max_seconds = bench::parse_double(value(), "time limit", usage);
-    } else if (a == "--threads") {
-      o.threads = static_cast<int>(bench::parse_int(value(), "thread count", usage));
-      if (o.threads < 1) usage("--threads must be >= 1");
-    } else if (a == "--tangent-only") {
+    } else if (args.is("--steps")) {
+      o.steps = args.count("step count");
+    } else if (args.is("--min-seconds")) {
+      o.min_seconds = args.number("time");
+    } else if (args.is("--repeat")) {
+      o.repeat = args.count("repeat count");
+    } else if (args.is("--max-seconds")) {
+      o.max_seconds = args.number("time limit");
+    } else if (args.is("--threads")) {
+      o.threads = args.count("thread count");
+    } else if (args.is("--tangent-only")) {
       o.tangent_only = true;
-    } else if (a == "-h" || a == "--help") {
-      usage("help");
     } else {
-      usage(fmt::format("unknown argument '{}'", a));
+      args.unknown();
     }
   }
   if (!o.mode_given) usage("--mode is required");

@@ -51,34 +51,25 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(a + " needs a value");
-      return argv[++i];
-    };
-    try {
-      if (a == "--formulations") {
-        o.formulations = bench::parse_formulations(value(), usage);
-      } else if (a == "--repeat") {
-        o.repeat = std::stoi(value());
-        if (o.repeat < 1) usage("--repeat must be >= 1");
-      } else if (a == "--t-end") {
-        o.t_end = std::stod(value());
-      } else if (a == "--cond") {
-        for (const auto& d : bench::split(value()))
-          o.cond_dts.push_back(bench::parse_double(d, "time step", usage));
-      } else if (a == "--no-run") {
-        o.run = false;
-      } else if (!a.empty() && a[0] == '-') {
-        usage("unknown option " + a);
-      } else if (o.model.empty()) {
-        o.model = a;
-      } else {
-        usage("more than one model file");
-      }
-    } catch (const std::invalid_argument&) {
-      usage("bad value for " + a);
+  bench::Args args(argc, argv, usage);
+  while (args.next()) {
+    if (args.is("--formulations")) {
+      o.formulations = bench::parse_formulations(args.value(), usage);
+    } else if (args.is("--repeat")) {
+      o.repeat = args.count("repeat count");
+    } else if (args.is("--t-end")) {
+      o.t_end = args.number("end time");
+    } else if (args.is("--cond")) {
+      for (const auto& d : bench::split(args.value()))
+        o.cond_dts.push_back(bench::parse_double(d, "time step", usage));
+    } else if (args.is("--no-run")) {
+      o.run = false;
+    } else if (!args.arg().empty() && args.arg()[0] == '-') {
+      args.unknown();
+    } else if (o.model.empty()) {
+      o.model = args.arg();
+    } else {
+      usage("more than one model file");
     }
   }
   if (o.model.empty()) usage("no model file");

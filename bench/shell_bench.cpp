@@ -60,33 +60,24 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--sizes") {
-      o.sizes.clear();
-      for (const auto& s : bench::split(value()))
-        o.sizes.push_back(static_cast<int>(bench::parse_int(s, "size", usage)));
-      if (o.sizes.empty()) usage("--sizes needs at least one N");
-    } else if (a == "--steps") {
-      o.steps = static_cast<int>(bench::parse_int(value(), "step count", usage));
-    } else if (a == "--warmup") {
-      const std::string v = value();
+  bench::Args args(argc, argv, usage);
+  while (args.next()) {
+    if (args.is("--sizes")) {
+      o.sizes = args.counts("size");
+    } else if (args.is("--steps")) {
+      o.steps = args.count("step count");
+    } else if (args.is("--warmup")) {
+      const std::string v = args.value();
       o.warmup = v == "0" ? 0 : static_cast<int>(bench::parse_int(v, "warm-up count", usage));
-    } else if (a == "--formulations") {
-      o.formulations = bench::parse_formulations(value(), usage);
-    } else if (a == "--dt") {
-      o.dt = bench::parse_double(value(), "time step", usage);
+    } else if (args.is("--formulations")) {
+      o.formulations = bench::parse_formulations(args.value(), usage);
+    } else if (args.is("--dt")) {
+      o.dt = args.number("time step");
       if (!(o.dt > 0)) usage("--dt must be positive");
-    } else if (a == "--max-seconds") {
-      o.max_seconds = bench::parse_double(value(), "time limit", usage);
-    } else if (a == "-h" || a == "--help") {
-      usage("help");
+    } else if (args.is("--max-seconds")) {
+      o.max_seconds = args.number("time limit");
     } else {
-      usage(fmt::format("unknown argument '{}'", a));
+      args.unknown();
     }
   }
   return o;
