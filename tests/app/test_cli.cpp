@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "support/cli.hpp"
+#include "support/files.hpp"
 
 namespace fs = std::filesystem;
 
@@ -22,18 +23,11 @@ Result run(const std::string& args) {
 }
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("isoflex_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return isoflex::test::temp_dir("isoflex_cli_", name);
 }
 
 std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return isoflex::test::read_text(p);
 }
 
 const char* kGood = R"(name: pendulum
