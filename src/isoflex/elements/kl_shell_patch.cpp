@@ -13,16 +13,11 @@
 
 #include "isoflex/elements/kl_shell_patch_impl.hpp"
 #include "isoflex/geometry/element_basis.hpp"
+#include "isoflex/math/exact_text.hpp"
 
 namespace isoflex::elements {
 
 namespace {
-
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 [[noreturn]] void fail(const std::string& msg) {
   throw std::invalid_argument("KLShellPatch: " + msg);
@@ -87,13 +82,13 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
          "): (p+1)(q+1) = " + std::to_string((p + 1) * (q + 1)) + " > " +
          std::to_string(kl::kMaxFunctions) + " functions per element");
   if (!(section.young > 0.0) || !std::isfinite(section.young))
-    fail("Young's modulus must be positive, got " + num(section.young));
+    fail("Young's modulus must be positive, got " + exact_text(section.young));
   if (!(section.poisson > -1.0 && section.poisson < 0.5))
-    fail("Poisson's ratio must lie in (-1, 0.5), got " + num(section.poisson));
+    fail("Poisson's ratio must lie in (-1, 0.5), got " + exact_text(section.poisson));
   if (!(section.thickness > 0.0) || !std::isfinite(section.thickness))
-    fail("thickness must be positive, got " + num(section.thickness));
+    fail("thickness must be positive, got " + exact_text(section.thickness));
   if (!(section.density >= 0.0) || !std::isfinite(section.density))
-    fail("density must be >= 0, got " + num(section.density));
+    fail("density must be >= 0, got " + exact_text(section.density));
   if (rule_u < 0 || rule_v < 0)
     fail("Gauss points per span must be >= 0 (0 = degree + 1), got " + std::to_string(rule_u) +
          ", " + std::to_string(rule_v));
@@ -134,8 +129,8 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
       kl::ReferencePoint& r = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
       r = kl::reference_point(view(eb, g), Xl, w, section.young, section.poisson);
       if (!(r.J0 > 1e-12 * r.A1.norm() * r.A2.norm()))
-        fail("degenerate reference geometry at (xi, eta) = (" + num(eb.xi[i]) + ", " +
-             num(eb.eta[j]) + "): |A1 x A2| = " + num(r.J0));
+        fail("degenerate reference geometry at (xi, eta) = (" + exact_text(eb.xi[i]) + ", " +
+             exact_text(eb.eta[j]) + "): |A1 x A2| = " + exact_text(r.J0));
     }
   }
 

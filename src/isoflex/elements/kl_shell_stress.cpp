@@ -6,6 +6,7 @@
 #include <string>
 
 #include "isoflex/elements/kl_shell_patch_impl.hpp"
+#include "isoflex/math/exact_text.hpp"
 
 namespace isoflex::elements {
 
@@ -32,12 +33,6 @@ Vec3 to_frame(const Eigen::Matrix2d& T, const Vec3& s) {
   return {H(0, 0), H(1, 1), H(0, 1)};
 }
 
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 }  // namespace
 
 KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinematics kin) const {
@@ -45,8 +40,8 @@ KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinem
   m.check_size(x, "stress");
   const auto& s = m.ref;
   if (!(xi >= s.u.front() && xi <= s.u.back() && eta >= s.v.front() && eta <= s.v.back()))
-    throw std::invalid_argument("KLShellPatch: stress: (xi, eta) = (" + num(xi) + ", " + num(eta) +
-                                ") outside the parameter domain");
+    throw std::invalid_argument("KLShellPatch: stress: (xi, eta) = (" + exact_text(xi) + ", " +
+                                exact_text(eta) + ") outside the parameter domain");
   const geometry::SurfaceBasis sb = geometry::surface_basis(s, xi, eta);
   const int n = static_cast<int>(sb.R.cols());
   const kl::BasisView R{sb.R.data(), n, 1, 6};
@@ -59,7 +54,7 @@ KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinem
   const kl::ReferencePoint ref = kl::reference_point(R, Xl, 0.0, m.sec.young, m.sec.poisson);
   if (!(ref.J0 > 0.0))
     throw std::invalid_argument("KLShellPatch: stress: degenerate reference geometry at (" +
-                                num(xi) + ", " + num(eta) + ")");
+                                exact_text(xi) + ", " + exact_text(eta) + ")");
 
   KLShellStress out;
   out.point.setZero();
@@ -81,7 +76,7 @@ KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinem
     cur = kl::current_point(R, xl);
     if (!(cur.j > 0.0))
       throw std::invalid_argument("KLShellPatch: stress: degenerate current geometry at (" +
-                                  num(xi) + ", " + num(eta) + ")");
+                                  exact_text(xi) + ", " + exact_text(eta) + ")");
     kl::strains(ref, cur, Em, Ef);
     area_ratio = ref.J0 / cur.j;  // IGA-thesis (3.44)
   }

@@ -6,28 +6,24 @@
 #include <stdexcept>
 #include <string>
 
+#include "isoflex/math/exact_text.hpp"
+
 namespace isoflex::geometry {
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::string str(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 void check_positive(double x, const char* what, const char* name) {
   if (!(x > 0.0) || !std::isfinite(x))
-    throw std::invalid_argument(std::string(what) + ": " + name + " = " + str(x) +
+    throw std::invalid_argument(std::string(what) + ": " + name + " = " + exact_text(x) +
                                 " must be positive and finite");
 }
 
 void check_angle(double a, double max, const char* what, const char* name, const char* range) {
   if (!(a > 0.0 && a <= max * (1.0 + 1e-15)))
-    throw std::invalid_argument(std::string(what) + ": " + name + " = " + str(a) + " outside " +
-                                range);
+    throw std::invalid_argument(std::string(what) + ": " + name + " = " + exact_text(a) +
+                                " outside " + range);
 }
 
 // Control polygon of a circular arc in the plane (cos, sin)·R: the rational quadratic segments
@@ -89,7 +85,7 @@ NurbsSurface planar_rectangle(const Vec3& corner, const Vec3& edge_u, const Vec3
   const double area = edge_u.cross(edge_v).norm();
   if (!(area > 1e-14 * edge_u.norm() * edge_v.norm()) || !(area > 0.0))
     throw std::invalid_argument(
-        "planar_rectangle: edges are zero or parallel (|e_u × e_v| = " + str(area) + ")");
+        "planar_rectangle: edges are zero or parallel (|e_u × e_v| = " + exact_text(area) + ")");
   NurbsSurface s;
   s.u = KnotVector(1, {0, 0, 1, 1});
   s.v = KnotVector(1, {0, 0, 1, 1});
@@ -124,8 +120,8 @@ NurbsSurface sphere_sector(double radius, double azimuth_sweep, double lat_from,
   check_positive(radius, "sphere_sector", "radius");
   check_angle(azimuth_sweep, 2.0 * kPi, "sphere_sector", "azimuth_sweep", "(0, 2π]");
   if (!(lat_from >= -kPi / 2 - 1e-15 && lat_to <= kPi / 2 + 1e-15 && lat_from < lat_to))
-    throw std::invalid_argument("sphere_sector: latitudes [" + str(lat_from) + ", " + str(lat_to) +
-                                "] not an interval inside [−π/2, π/2]");
+    throw std::invalid_argument("sphere_sector: latitudes [" + exact_text(lat_from) + ", " +
+                                exact_text(lat_to) + "] not an interval inside [−π/2, π/2]");
   // Surface of revolution of the meridian arc (r, z) = R (cos λ, sin λ) about z: the control
   // point (r_j, z_j) with weight w_j, turned by the unit-circle arc polygon (c_i, w_i), gives
   // P_ij = (r_j c_i, z_j), w_ij = w_i w_j — a tensor product of two exact arcs (4.12).

@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "isoflex/math/exact_text.hpp"
+
 namespace isoflex::geometry {
 
 namespace {
@@ -40,12 +42,6 @@ HomCurve surface_line(const NurbsSurface& s, Direction d, int line) {
   return c;
 }
 
-std::string str(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 // Knots to insert must be finite, strictly inside the domain, and may not raise a multiplicity
 // above p (the spline would become discontinuous; for p = 0 multiplicity 1 is the normal case).
 void check_new_knots(const KnotVector& kv, const std::vector<double>& sorted, const char* what) {
@@ -53,16 +49,16 @@ void check_new_knots(const KnotVector& kv, const std::vector<double>& sorted, co
   for (std::size_t k = 0; k < sorted.size(); ++k) {
     const double x = sorted[k];
     if (!std::isfinite(x) || !(x > kv.front() && x < kv.back()))
-      throw std::invalid_argument(std::string(what) + ": knot " + str(x) +
-                                  " is not strictly inside the domain (" + str(kv.front()) + ", " +
-                                  str(kv.back()) + ")");
+      throw std::invalid_argument(std::string(what) + ": knot " + exact_text(x) +
+                                  " is not strictly inside the domain (" + exact_text(kv.front()) +
+                                  ", " + exact_text(kv.back()) + ")");
     if (k > 0 && sorted[k - 1] == x) continue;
     const auto count =
         static_cast<int>(std::upper_bound(sorted.begin(), sorted.end(), x) - sorted.begin()) -
         static_cast<int>(k);
     const int mult = kv.multiplicity(x) + count;
     if (mult > max_mult)
-      throw std::invalid_argument(std::string(what) + ": knot " + str(x) +
+      throw std::invalid_argument(std::string(what) + ": knot " + exact_text(x) +
                                   " would get multiplicity " + std::to_string(mult) + " > degree " +
                                   std::to_string(kv.degree()) +
                                   " (the spline would become discontinuous)");
@@ -276,7 +272,7 @@ void check_elevation(const KnotVector& kv, int t, const char* what) {
   const std::vector<double> bp = kv.breakpoints();
   for (std::size_t k = 1; k + 1 < bp.size(); ++k)
     if (kv.multiplicity(bp[k]) > kv.degree())
-      throw std::invalid_argument(std::string(what) + ": interior knot " + str(bp[k]) +
+      throw std::invalid_argument(std::string(what) + ": interior knot " + exact_text(bp[k]) +
                                   " has multiplicity " + std::to_string(kv.multiplicity(bp[k])) +
                                   " > degree " + std::to_string(kv.degree()));
 }
