@@ -249,10 +249,11 @@ DirectorShellElement::DirectorShellElement(const std::array<int, 4>& nodes, cons
     area_ += wj;
     nodal_areas_ += wj * N;
     nodal_normal_areas_ += wj * geo.normal * N.transpose();
-    mass_n_ += wj * N * N.transpose();
+    // N Nᵀ evaluated first: symmetric bit for bit, also with FMA ((wN_a)N_b and (wN_b)N_a, which
+    // Eigen forms from wj * (N Nᵀ) written inline, round differently).
+    const Mat<4, 4> NN = N * N.transpose();
+    mass_n_ += wj * NN;
   }
-  // Symmetric bit for bit: with FMA contraction (wN_a)N_b and (wN_b)N_a round differently.
-  mass_n_ = 0.5 * (mass_n_ + mass_n_.transpose()).eval();
 
   Q q0e = q0;
   const Jacobian B0 = strain_jacobian(q0e);
