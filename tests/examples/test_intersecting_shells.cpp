@@ -23,7 +23,7 @@ TEST(IntersectingShells, EquationCounts) {
   EXPECT_EQ(sys.n(), 288);
   EXPECT_EQ(sys.m_selected(), 84);
   EXPECT_EQ(sys.k(), 204);
-  EXPECT_EQ(sys.director_node_count(), 44);
+  EXPECT_EQ(sys.node_count(isoflex::NodeKind::director), 44);
 }
 
 // From t = 2 (loads off) to t = 3: energy, linear and angular momentum constant to round-off in

@@ -58,7 +58,7 @@ TEST(ShellSystem, CountsNodesConstraintsAndTreeCoordinates) {
   const auto free = compile(false);
   // hub + 12 + 9 director nodes; n = 12 + 21·6, m = 6 + 21 internal + 3·5 attached + 3·4 joined.
   EXPECT_EQ(free.node_count(), 22);
-  EXPECT_EQ(free.director_node_count(), 21);
+  EXPECT_EQ(free.node_count(isoflex::NodeKind::director), 21);
   EXPECT_EQ(free.n(), 138);
   EXPECT_EQ(free.m_selected(), 27 + 15 + 12);
   EXPECT_EQ(free.k(), free.n() - free.m_selected());

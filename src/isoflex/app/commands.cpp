@@ -125,14 +125,16 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   }
   const auto& sys = *l->sys;
   const int m_int = sys.internal_rows();
-  const int n_director = sys.director_node_count();
-  if (n_director == 0)
-    fmt::print(out, "nodes            {} (frame nodes, 12 coordinates each)\n", sys.node_count());
-  else
-    fmt::print(out,
-               "nodes            {} ({} frame nodes, 12 coordinates each; {} director nodes, 6 "
-               "coordinates each)\n",
-               sys.node_count(), sys.node_count() - n_director, n_director);
+  // Counts per node kind (math/node_kind.hpp), the kinds present only.
+  std::string kinds;
+  for (int k = 0; k < kNodeKinds; ++k) {
+    const NodeType& type = node_type(static_cast<NodeKind>(k));
+    const int count = sys.node_count(type.kind());
+    if (count == 0) continue;
+    kinds += fmt::format("{}{} {} nodes, {} coordinates each", kinds.empty() ? "" : "; ", count,
+                         type.name(), type.coordinates());
+  }
+  fmt::print(out, "nodes            {} ({})\n", sys.node_count(), kinds);
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
              sys.m_selected(), m_int, sys.m_selected() - m_int);

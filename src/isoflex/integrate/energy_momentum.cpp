@@ -6,8 +6,6 @@
 #include <cmath>
 
 #include "isoflex/integrate/newton_loop.hpp"
-#include "isoflex/math/director_node.hpp"
-#include "isoflex/math/frame_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::integrate {
@@ -131,8 +129,7 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predict
       VecX u = VecX::Zero(sys_.k());
       if (!have || p == Predictor::at_rest) return u;
       u = ratio * s.last_unknowns;
-      if (p == Predictor::extrapolated && !sys_.frame_nodes_only())
-        sys_.guess_director_increments(s.q, s.v, dt, u);
+      if (p == Predictor::extrapolated) sys_.extrapolate_increments(s.q, s.v, dt, u);
       return u;
     }
   }
@@ -415,19 +412,10 @@ Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
     b.name = i < static_cast<int>(body_names.size()) ? body_names[i] : std::string();
     b.position = s.q.segment<3>(o);
     b.velocity = s.v.segment<3>(o);
-    if (sys_.node_kind(i) == joints::NodeKind::frame) {
-      const frame_node::Q q = s.q.segment<12>(o), v = s.v.segment<12>(o);
-      b.directors = frame_node::directors(q);
-      Vec3 w = Vec3::Zero();  // ω = ½ Σ d_I × ḋ_I
-      for (int I = 0; I < 3; ++I)
-        w += 0.5 * frame_node::director(q, I).cross(frame_node::director(v, I));
-      b.angular_velocity = w;
-    } else {
-      // A shell node: its director as d₃ of a frame, ω = d × ḋ (no drilling part).
-      const Vec3 d = s.q.segment<3>(o + 3);
-      b.directors << director_node::tangent_basis(d), d;
-      b.angular_velocity = d.cross(Vec3(s.v.segment<3>(o + 3)));
-    }
+    const NodeType& type = sys_.node_type(i);
+    const auto q = sys_.node_q(s.q, i), v = sys_.node_q(s.v, i);
+    b.directors = type.frame(q);
+    b.angular_velocity = type.angular_velocity(q, v);
     out.bodies.push_back(b);
   }
   for (int b = 0; b < static_cast<int>(sys_.beams().size()); ++b) {

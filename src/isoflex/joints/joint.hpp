@@ -16,15 +16,13 @@
 //   - the update map keeps every row at zero, and its derivative is the velocity analysis at
 //     t_{n+1}: δq_B = P_int(q_B,n+1)(A δt_A + B̃ δτ), with B̃ = update_freedom_block and δt_A the
 //     parent's variation (δφ_A and δω_A with δQ_A = δω̂_A Q_A).
+#include "isoflex/math/node_kind.hpp"
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::joints {
 
-enum class NodeKind { frame, director };
-
-constexpr int coordinate_count(NodeKind k) {
-  return k == NodeKind::frame ? 12 : 6;
-}
+using isoflex::coordinate_count;
+using isoflex::NodeKind;
 
 class Joint {
  public:

@@ -71,14 +71,6 @@ void add_block(Triplets& t, int r0, int c0, const Eigen::MatrixBase<Derived>& B)
       if (B(i, j) != 0.0) t.emplace_back(r0 + i, c0 + j, B(i, j));
 }
 
-// Body coordinates of a material point given globally at t = 0 or in body coordinates
-// (default: the centre of mass).
-Vec3 body_coordinates(const fn::Q& q0, const std::optional<Vec3>& global,
-                      const std::optional<Vec3>& local) {
-  if (global) return fn::directors(q0).transpose() * (*global - fn::phi(q0));
-  return local ? *local : Vec3::Zero();
-}
-
 }  // namespace
 
 joints::Joint::CRef System::node_q(const VecX& q, int node) const {
@@ -87,13 +79,21 @@ joints::Joint::CRef System::node_q(const VecX& q, int node) const {
 }
 
 void System::add_node(NodeKind kind, const VecX& q0, const std::string& name, int beam) {
-  nodes_.push_back({kind, static_cast<int>(q0_.size()), internal_rows_});
-  internal_rows_ += kind == NodeKind::frame ? fn::kConstraints : dn::kConstraints;
-  if (kind == NodeKind::director) ++director_nodes_;
+  const NodeType& type = isoflex::node_type(kind);
+  assert(q0.size() == type.coordinates());
+  nodes_.push_back({&type, static_cast<int>(q0_.size()), internal_rows_});
+  internal_rows_ += type.internal_rows();
+  ++kind_count_[static_cast<int>(kind)];
   q0_.conservativeResize(q0_.size() + q0.size());
   q0_.tail(q0.size()) = q0;
   node_names_.push_back(name);
   node_beam_.push_back(beam);
+}
+
+Vec3 System::body_coordinates(int node, const std::optional<Vec3>& global,
+                              const std::optional<Vec3>& local) const {
+  if (global) return node_type(node).local_coordinates(node_q(q0_, node), *global);
+  return local ? *local : Vec3::Zero();
 }
 
 VecX System::stacked(const VecX& q, const std::vector<int>& nodes) const {
@@ -228,8 +228,7 @@ System System::compile(const model::Model& model) {
     if (s.node_kind(node) != NodeKind::frame)
       fail(L.source, what + ".body",
            fmt::format("'{}' is a shell node: load shells with shell_loads", L.body));
-    const fn::Q q = s.node_q(s.q0_, node);
-    const Vec3 X = body_coordinates(q, L.point, L.point_local);
+    const Vec3 X = s.body_coordinates(node, L.point, L.point_local);
     auto compile3 = [&](const std::optional<std::array<std::string, 3>>& e, const char* key) {
       std::optional<std::array<loads::TimeFunction, 3>> f;
       if (!e) return f;
@@ -338,14 +337,8 @@ System System::compile(const model::Model& model) {
     const auto& P = model.probes[p];
     const int node = find_body(P.body, P.source, fmt::format("probes[{}].body", p));
     if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
-    if (s.node_kind(node) == NodeKind::director) {
-      // A shell node's probe follows the node's mid-surface point.
-      s.probes_.push_back({P.name, node, Vec3::Zero()});
-      continue;
-    }
-    const fn::Q q = s.node_q(s.q0_, node);
-    const Vec3 X = body_coordinates(q, P.point, P.point_local);
-    s.probes_.push_back({P.name, node, X});
+    // A shell node's probe follows the node's mid-surface point (NodeType::local_coordinates).
+    s.probes_.push_back({P.name, node, s.body_coordinates(node, P.point, P.point_local)});
   }
 
   // Joint graph and spanning forest rooted at the ground (breadth first, so chains hang from the
@@ -474,6 +467,12 @@ System System::compile(const model::Model& model) {
     const int child = rev ? edges[j].a : edges[j].b;
     const std::string name = J.name.empty() ? what : J.name;
     const bool tree = tree_parent_side[j] != 0;
+    for (int node : {parent, child})
+      if (node >= 0 && s.node_kind(node) != NodeKind::frame &&
+          s.node_kind(node) != NodeKind::director)
+        fail(J.source, what,
+             fmt::format("'{}' is a {} node: joints join frame and director nodes only",
+                         s.node_names_[node], s.node_type(node).name()));
     if ((parent >= 0 && s.node_kind(parent) == NodeKind::director) ||
         s.node_kind(child) == NodeKind::director) {
       auto joint = s.director_joint(J, parent, child, what);
@@ -540,7 +539,7 @@ System System::compile(const model::Model& model) {
   int nu = 0;
   for (int root : s.roots_) {
     s.root_nu_offset_.push_back(nu);
-    s.root_width_.push_back(s.node_kind(root) == NodeKind::frame ? 6 : 5);
+    s.root_width_.push_back(s.node_type(root).free_velocities());
     nu += s.root_width_.back();
   }
   for (int j : order) {
@@ -726,10 +725,7 @@ VecX System::constraints(const VecX& q) const {
   VecX c(m_all_);
   for (int i = 0; i < node_count(); ++i) {
     const Node& nd = nodes_[i];
-    if (nd.kind == NodeKind::frame)
-      c.segment<6>(nd.row_offset) = fn::constraints(q.segment<12>(nd.q_offset));
-    else
-      c(nd.row_offset) = dn::constraint(q.segment<6>(nd.q_offset));
+    c.segment(nd.row_offset, nd.type->internal_rows()) = nd.type->constraints(node_q(q, i));
   }
   for (const auto& J : joints_)
     c.segment(J.row_offset, J.joint->constraint_count()) =
@@ -740,13 +736,8 @@ VecX System::constraints(const VecX& q) const {
 SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
   // Assemble all rows, then pick.
   Triplets t;
-  for (int i = 0; i < node_count(); ++i) {
-    const Node& nd = nodes_[i];
-    if (nd.kind == NodeKind::frame)
-      add_block(t, nd.row_offset, nd.q_offset, fn::jacobian(q.segment<12>(nd.q_offset)));
-    else
-      add_block(t, nd.row_offset, nd.q_offset, dn::jacobian(q.segment<6>(nd.q_offset)));
-  }
+  for (int i = 0; i < node_count(); ++i)
+    add_block(t, nodes_[i].row_offset, nodes_[i].q_offset, node_type(i).jacobian(node_q(q, i)));
   for (const auto& J : joints_) {
     const MatX G = J.joint->jacobian(node_q(q, J.parent), node_q(q, J.child));
     const int m = J.joint->constraint_count();
@@ -774,14 +765,11 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
   Triplets t;
   for (int i = 0; i < node_count(); ++i) {
     const Node& nd = nodes_[i];
-    if (nd.kind == NodeKind::frame) {
-      Mat<12, 12> H = Mat<12, 12>::Zero();
-      fn::add_constraint_hessian(l.segment<6>(nd.row_offset), H);
-      add_block(t, nd.q_offset, nd.q_offset, H);
-    } else {
-      // (41): ∂²/∂d² ½(d·d − 1) = I.
-      add_block(t, nd.q_offset + 3, nd.q_offset + 3, l(nd.row_offset) * Mat3::Identity());
-    }
+    const int c = nd.type->coordinates();
+    if (nd.type->internal_rows() == 0) continue;
+    NodeMat H = NodeMat::Zero(c, c);
+    nd.type->add_constraint_hessian(l.segment(nd.row_offset, nd.type->internal_rows()), H);
+    add_block(t, nd.q_offset, nd.q_offset, H);
   }
   for (const auto& J : joints_) {
     const int na = joints::coordinate_count(J.joint->parent_kind());
@@ -803,10 +791,7 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
 
 System::InputBlocks System::input_blocks(const VecX& q) const {
   InputBlocks in;
-  for (int r : roots_)
-    in.root.push_back(node_kind(r) == NodeKind::frame
-                          ? MatX(MatX::Identity(6, 6))
-                          : MatX(dn::root_block(q.segment<6>(nodes_[r].q_offset))));
+  for (int r : roots_) in.root.push_back(node_type(r).root_block(node_q(q, r)));
   in.joint.resize(joints_.size());
   for (int j : tree_order_) {
     const auto& J = joints_[j];
@@ -818,17 +803,9 @@ System::InputBlocks System::input_blocks(const VecX& q) const {
 System::InputBlocks System::update_input_blocks(const VecX& qn, const VecX& q1,
                                                 const VecX& u) const {
   InputBlocks in;
-  for (std::size_t r = 0; r < roots_.size(); ++r) {
-    const int o = root_nu_offset_[r];
-    const int qo = nodes_[roots_[r]].q_offset;
-    if (node_kind(roots_[r]) == NodeKind::frame) {
-      MatX B = MatX::Identity(6, 6);
-      B.bottomRightCorner<3, 3>() = rodrigues_tangent(u.segment<3>(o + 3));  // (37)
-      in.root.push_back(B);
-    } else {
-      in.root.push_back(dn::root_update_block(qn.segment<6>(qo), u.segment<5>(o)));
-    }
-  }
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    in.root.push_back(node_type(roots_[r]).root_update_block(
+        node_q(qn, roots_[r]), u.segment(root_nu_offset_[r], root_width_[r])));
   in.joint.resize(joints_.size());
   for (int j : tree_order_) {
     const auto& J = joints_[j];
@@ -868,13 +845,8 @@ SpMat System::twist_map(const VecX& q) const {
 
 SpMat System::internal_null_space(const VecX& q) const {
   Triplets t;
-  for (int i = 0; i < node_count(); ++i) {
-    const int o = nodes_[i].q_offset;
-    if (node_kind(i) == NodeKind::frame)
-      add_block(t, o, 6 * i, fn::null_space(q.segment<12>(o)));
-    else
-      add_block(t, o, 6 * i, dn::twist_null_space(q.segment<6>(o)));
-  }
+  for (int i = 0; i < node_count(); ++i)
+    add_block(t, nodes_[i].q_offset, 6 * i, node_type(i).twist_null_space(node_q(q, i)));
   SpMat Pint(n(), 6 * node_count());
   Pint.setFromTriplets(t.begin(), t.end());
   return Pint;
@@ -889,13 +861,9 @@ VecX System::update(const VecX& qn, const VecX& u) const {
   // Rotation of every node over the step (joints/joint.hpp): what the joints below it apply.
   std::vector<Mat3> step(node_count(), Mat3::Identity());
   for (std::size_t r = 0; r < roots_.size(); ++r) {
-    const int i = roots_[r], o = nodes_[i].q_offset, uo = root_nu_offset_[r];
-    if (node_kind(i) == NodeKind::frame) {
-      q.segment<12>(o) = fn::update(qn.segment<12>(o), u.segment<6>(uo));
-      step[i] = rodrigues(u.segment<3>(uo + 3));
-    } else {
-      q.segment<6>(o) = dn::root_update(qn.segment<6>(o), u.segment<5>(uo), &step[i]);
-    }
+    const int i = roots_[r];
+    q.segment(nodes_[i].q_offset, coordinate_count(i)) = node_type(i).root_update(
+        node_q(qn, i), u.segment(root_nu_offset_[r], root_width_[r]), step[i]);
   }
   const Mat3 ground_step = Mat3::Identity();
   for (int j : tree_order_) {
@@ -908,15 +876,11 @@ VecX System::update(const VecX& qn, const VecX& u) const {
   return q;
 }
 
-void System::guess_director_increments(const VecX& q, const VecX& v, double dt, VecX& u) const {
+void System::extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const {
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
-    if (node_kind(i) != NodeKind::director) continue;
-    const int o = nodes_[i].q_offset;
-    const Vec3 d = q.segment<3>(o + 3);
-    const Vec3 w = dt * d.cross(Vec3(v.segment<3>(o + 3)));
-    const Mat<3, 2> b = dn::tangent_basis(d);
-    u.segment<5>(root_nu_offset_[r]) << dt * v.segment<3>(o), w.dot(b.col(1)), -w.dot(b.col(0));
+    auto ui = u.segment(root_nu_offset_[r], root_width_[r]);
+    node_type(i).extrapolate(node_q(q, i), node_q(v, i), dt, ui);
   }
 }
 
@@ -960,13 +924,8 @@ void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const 
 VecX System::reduce(const VecX& q, const VecX& r) const {
   const int N = node_count();
   VecX y(6 * N);
-  for (int i = 0; i < N; ++i) {
-    const int o = nodes_[i].q_offset;
-    if (node_kind(i) == NodeKind::frame)
-      y.segment<6>(6 * i) = fn::null_space(q.segment<12>(o)).transpose() * r.segment<12>(o);
-    else
-      y.segment<6>(6 * i) = dn::twist_null_space(q.segment<6>(o)).transpose() * r.segment<6>(o);
-  }
+  for (int i = 0; i < N; ++i)
+    y.segment<6>(6 * i) = node_type(i).twist_force(node_q(q, i), node_q(r, i));
   VecX out = VecX::Zero(k_);
   for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
     const auto& J = joints_[*it];
@@ -979,11 +938,8 @@ VecX System::reduce(const VecX& q, const VecX& r) const {
   }
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
-    if (node_kind(i) == NodeKind::frame)
-      out.segment<6>(root_nu_offset_[r]) = y.segment<6>(6 * i);
-    else
-      out.segment<5>(root_nu_offset_[r]) =
-          dn::root_block(q.segment<6>(nodes_[i].q_offset)).transpose() * y.segment<6>(6 * i);
+    out.segment(root_nu_offset_[r], root_width_[r]) =
+        node_type(i).free_force(node_q(q, i), y.segment<6>(6 * i));
   }
   return out;
 }
@@ -1006,12 +962,8 @@ VecX System::beam_element_q(const VecX& q, int b, int e) const {
   return stacked(q, beams_[b].elements[e]->nodes());
 }
 
-// A director node's material points are φ + X₃ d (38); a frame node's φ + X_I d_I.
 Vec3 System::material_point(const VecX& q, int node, const Vec3& X) const {
-  const int o = nodes_[node].q_offset;
-  if (node_kind(node) == NodeKind::director) return q.segment<3>(o) + X.z() * q.segment<3>(o + 3);
-  const fn::Q qn = q.segment<12>(o);
-  return fn::phi(qn) + fn::directors(qn) * X;
+  return node_type(node).material_point(node_q(q, node), X);
 }
 
 // Material points are linear in q, so their velocity is the same map applied to v.

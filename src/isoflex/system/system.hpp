@@ -2,10 +2,11 @@
 // The compiled system (docs/architecture.md, "system"): DOF layout, elements, loads, joints, the
 // constraint graph with its spanning forest, and the assembly of every quantity the integrators
 // need. Nodes: the bodies (node i is body i) and the beam nodes are frame nodes (12 coordinates,
-// DNSM-III (16)); shell nodes are director nodes (6 coordinates, (40)).
+// DNSM-III (16)); shell nodes are director nodes (6 coordinates, (40)). What a node kind is
+// (coordinates, internal rows, twist form, update map): math/node_kind.hpp.
 //
 // Layouts
-//   q ∈ Rⁿ: node i occupies q[q_offset(i), q_offset(i) + 12 or 6), in node order.
+//   q ∈ Rⁿ: node i occupies q[q_offset(i), q_offset(i) + coordinate_count(i)), in node order.
 //   Constraint rows ("all rows"): the internal rows of every node in node order (6 for a frame
 //   node (20), 1 for a director node (41)), then every joint's rows in model order. Selected
 //   rows: internal, tree joints, and the independent rows of the loop-closing joints; redundant
@@ -16,7 +17,9 @@
 //   node, (φ̇, θ̇₁, θ̇₂) (47) for a director node), then τ (r entries) for each tree joint.
 //   q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
 #include <Eigen/SparseCore>
+#include <array>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,14 +82,15 @@ class System {
 
   // Sizes
   int node_count() const { return static_cast<int>(nodes_.size()); }
-  joints::NodeKind node_kind(int i) const { return nodes_[i].kind; }
+  NodeKind node_kind(int i) const { return nodes_[i].type->kind(); }
+  const NodeType& node_type(int i) const { return *nodes_[i].type; }
+  int node_count(NodeKind kind) const { return kind_count_[static_cast<int>(kind)]; }
   int q_offset(int i) const { return nodes_[i].q_offset; }
-  int coordinate_count(int i) const { return joints::coordinate_count(nodes_[i].kind); }
+  int coordinate_count(int i) const { return nodes_[i].type->coordinates(); }
   int internal_row_offset(int i) const { return nodes_[i].row_offset; }
-  int internal_row_count(int i) const { return nodes_[i].kind == joints::NodeKind::frame ? 6 : 1; }
+  int internal_row_count(int i) const { return nodes_[i].type->internal_rows(); }
   int internal_rows() const { return internal_rows_; }
-  bool frame_nodes_only() const { return director_nodes_ == 0; }
-  int director_node_count() const { return director_nodes_; }
+  bool frame_nodes_only() const { return node_count(NodeKind::frame) == node_count(); }
   const std::vector<int>& root_widths() const { return root_width_; }
   int n() const { return static_cast<int>(q0_.size()); }
   int m_all() const { return m_all_; }
@@ -138,10 +142,10 @@ class System {
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
   VecX update(const VecX& qn, const VecX& u) const;
-  // Overwrites the entries of u that belong to free director nodes with the increment of a
-  // step at constant velocity, (Δt φ̇, Δt ω·d₂, −Δt ω·d₁) with ω = d × ḋ: the last step's
-  // increments are in the tangent bases of the last step, which may differ (tangent_basis).
-  void guess_director_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
+  // Overwrites the entries of u that belong to free nodes whose kind extrapolates a step at
+  // constant velocity (NodeType::extrapolate; a director node's last increments are in the
+  // tangent basis of the last step, which may differ).
+  void extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
   // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u), with q1 = update(qn, u) (the caller has
   // it already).
   SpMat update_derivative(const VecX& qn, const VecX& q1, const VecX& u) const;
@@ -176,7 +180,7 @@ class System {
 
  private:
   struct Node {
-    joints::NodeKind kind;
+    const NodeType* type;
     int q_offset;
     int row_offset;  // first internal row
   };
@@ -193,10 +197,15 @@ class System {
   std::shared_ptr<const joints::Joint> director_joint(const model::Joint& J, int parent, int child,
                                                       const std::string& what) const;
   SpMat internal_null_space(const VecX& q) const;  // P_int (n × 6N)
-  void add_node(joints::NodeKind kind, const VecX& q0, const std::string& name, int beam);
+  // Node coordinates of a material point given globally at t = 0 or in node coordinates
+  // (default: the node's origin, a body's centre of mass).
+  Vec3 body_coordinates(int node, const std::optional<Vec3>& global,
+                        const std::optional<Vec3>& local) const;
+  void add_node(NodeKind kind, const VecX& q0, const std::string& name, int beam);
 
   std::vector<Node> nodes_;
-  int internal_rows_ = 0, director_nodes_ = 0;
+  int internal_rows_ = 0;
+  std::array<int, kNodeKinds> kind_count_{};
   std::vector<int> root_width_;
   std::vector<std::unique_ptr<elements::Element>> elements_;
   std::vector<loads::BodyLoad> loads_;
