@@ -23,11 +23,6 @@ namespace {
   throw std::invalid_argument("KLShellPatch: " + msg);
 }
 
-kl::BasisView view(const geometry::ElementBasis& eb, int g) {
-  return {eb.values.data() + 6 * static_cast<std::ptrdiff_t>(eb.row_stride) * g, eb.n_functions,
-          eb.row_stride, 1};
-}
-
 // Local residual of one element, 3n ≤ 108 entries.
 using LocalVector =
     Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kl::kMaxFunctions, 1>;
@@ -127,7 +122,7 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
       const int i = g % eb.n_u, j = g / eb.n_u;
       const double w = m.rule_u.weights[i] * m.rule_v.weights[j] * jac;
       kl::ReferencePoint& r = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
-      r = kl::reference_point(view(eb, g), Xl, w, section.young, section.poisson);
+      r = kl::reference_point(Impl::view(eb, g), Xl, w, section.young, section.poisson);
       if (!(r.J0 > 1e-12 * r.A1.norm() * r.A2.norm()))
         fail("degenerate reference geometry at (xi, eta) = (" + exact_text(eb.xi[i]) + ", " +
              exact_text(eb.eta[j]) + "): |A1 x A2| = " + exact_text(r.J0));
@@ -191,7 +186,7 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
     geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
     const int* c = m.conn.data() + static_cast<std::size_t>(e) * m.n_fun;
     for (int g = 0; g < m.n_qp; ++g) {
-      const kl::BasisView R = view(eb, g);
+      const kl::BasisView R = Impl::view(eb, g);
       const double dA = m.points[static_cast<std::size_t>(e) * m.n_qp + g].dA * rho_t;
       for (int l = 0; l < m.n_fun; ++l) {
         const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * m.n_fun + l) * m.n_fun;
@@ -261,7 +256,7 @@ double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
       xl -= Xl;  // u = x − X
     }
     for (int g = 0; g < m.n_qp; ++g) {
-      const kl::BasisView R = view(eb, g);
+      const kl::BasisView R = Impl::view(eb, g);
       const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
       Vec3 Em, Ef;
       if (linear) {
@@ -282,6 +277,15 @@ double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
   return U;
 }
 
+void KLShellPatch::Impl::adopt_pattern(SpMat& K) const {
+  const bool same =
+      K.rows() == pattern.rows() && K.cols() == pattern.cols() && K.isCompressed() &&
+      K.nonZeros() == pattern.nonZeros() &&
+      std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + pattern.outerSize() + 1,
+                 K.outerIndexPtr());
+  if (!same) K = pattern;
+}
+
 VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) const {
   const Impl& m = *impl_;
   m.check_size(x, "internal_force");
@@ -292,12 +296,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
   VecX r = VecX::Zero(x.size());
   bool tangent = K != nullptr;  // false: K is the cached linear tangent
   if (K) {
-    const SpMat& P = m.pattern;
-    const bool same =
-        K->rows() == P.rows() && K->cols() == P.cols() && K->isCompressed() &&
-        K->nonZeros() == P.nonZeros() &&
-        std::equal(P.outerIndexPtr(), P.outerIndexPtr() + P.outerSize() + 1, K->outerIndexPtr());
-    if (!same) *K = P;
+    m.adopt_pattern(*K);
     if (linear) {
       const std::lock_guard<std::mutex> lock(m.linear_mutex);
       if (!m.linear_values.empty()) {
@@ -336,7 +335,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
     }
     re.setZero();
     for (int g = 0; g < m.n_qp; ++g) {
-      const kl::BasisView R = view(eb, g);
+      const kl::BasisView R = Impl::view(eb, g);
       const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
       const kl::CurrentPoint cur = linear ? kl::as_current(ref) : kl::current_point(R, xl);
       const kl::NormalFactors nfac = kl::normal_factors(cur);

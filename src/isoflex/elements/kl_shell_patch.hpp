@@ -82,9 +82,21 @@ class KLShellPatch {
   // pattern is the same on every call, compressed). A K that already has the pattern (same size,
   // compressed, same outer index) keeps its storage; any other K is replaced by a copy of it.
   VecX internal_force(const VecX& x, KLKinematics kin, SpMat* K) const;
-  // Threads of internal_force (1 by default; fewer than asked on small patches, ~2000 quadrature
-  // points per thread at least). The elements run in coloured blocks in a fixed order
-  // (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of threads.
+  // Discrete gradient DV(xₙ, xₙ₊₁) of the internal energy Π_int (3.22) for the energy–momentum
+  // schemes: DV·(xₙ₊₁ − xₙ) = Π(xₙ₊₁) − Π(xₙ) to round-off, DV = ∇Π(x_{n+½}) + O(|Δx|²), and DV is
+  // orthogonal to the rigid motions at the midpoint (Σ_A DV_A = 0, Σ_A x_{n+½,A} × DV_A = 0), so
+  // the midpoint rule with it conserves energy, linear and angular momentum. If K is not null it
+  // receives ∂DV/∂xₙ₊₁ (NOT symmetric) in the patch's fixed pattern (pattern(); same storage rules
+  // as internal_force). Same threads / bit-for-bit thread-count independence as internal_force.
+  // Formula (stress averaged, Gonzalez-type correction of the bending strains per element),
+  // threshold and limits: docs/theory/kl-shell.md §10. KLKinematics::linear: r(x_{n+½}), ½ K_lin
+  // (Π is quadratic; only Σ_A DV_A = 0 holds there, the linearized strains are not invariant
+  // under finite rotations). Throws like internal_force for a wrong size or non-finite entries.
+  VecX discrete_gradient(const VecX& xn, const VecX& xn1, KLKinematics kin, SpMat* K) const;
+  // Threads of internal_force and discrete_gradient (1 by default; fewer than asked on small
+  // patches, ~2000 quadrature points per thread at least). The elements run in coloured blocks in a
+  // fixed order (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of
+  // threads.
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
   // The threads internal_force actually runs on: threads(), at most one per 2 048 points.

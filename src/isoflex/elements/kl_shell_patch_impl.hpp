@@ -8,6 +8,7 @@
 #include "isoflex/elements/coloured_element_loop.hpp"
 #include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/elements/kl_shell_point.hpp"
+#include "isoflex/geometry/element_basis.hpp"
 #include "isoflex/geometry/quadrature.hpp"
 
 namespace isoflex::elements {
@@ -41,6 +42,14 @@ struct KLShellPatch::Impl {
   // Local control points of element e taken from x (3·ncp).
   void gather(const VecX& x, int e, kl::LocalPoints& xl) const;
   void check_size(const VecX& x, const char* what) const;
+  // Gives K the fixed pattern: keeps it if K already has it (same size, compressed, same outer
+  // index), else replaces it by a copy of `pattern`. Values are left as they are.
+  void adopt_pattern(SpMat& K) const;
+  // The basis of quadrature point g of an element, as the point kernel reads it.
+  static kl::BasisView view(const geometry::ElementBasis& eb, int g) {
+    return {eb.values.data() + 6 * static_cast<std::ptrdiff_t>(eb.row_stride) * g, eb.n_functions,
+            eb.row_stride, 1};
+  }
 };
 
 }  // namespace isoflex::elements

@@ -161,6 +161,17 @@ void material_tangent(const StrainOperator& E, const Vec3& a3, const Mat3& Cm, c
   T.middleRows<3>(12) = -a3 * DE.row(4);         // R_k,ηη
 }
 
+void material_tangent(const StrainOperator& EL, const StrainOperator& ER, const Mat3& Cm,
+                      const Mat3& Cb, PointTangent& T) {
+  // IGA-thesis (3.36), S_*(w)·E_*(v) with the variations of two configurations: dense, since the
+  // sparsity of the E_ξξ, E_ξη, E_ηη columns that material_tangent uses holds for each operator
+  // but with different normals a₃.
+  Mat<6, 15> DE;
+  DE.topRows<3>() = Cm.lazyProduct(ER.topRows<3>());
+  DE.bottomRows<3>() = Cb.lazyProduct(ER.bottomRows<3>());
+  T = EL.transpose().lazyProduct(DE);
+}
+
 void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, const Resultants& s,
                            double w, PointTangent& T) {
   // IGA-thesis (3.36), S·E_**: the geometric part G_kl of kl-shell.md §5, written as
@@ -205,10 +216,11 @@ void pack_tangent(const PointTangent& T, PackedTangent& P) {
         P.col(j).segment<3>(9 * i + 3 * b) = T.block<3, 1>(3 * i, 3 * j + b);
 }
 
-void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K) {
-  // kl-shell.md §5, eq. (K). W (9n × 5G): row 9l + e, column 5g + i holds entry e of W_i^g(l)
-  // (column-major 3 × 3); then K (9n × n), row 9l + e, column k, = W · Rho, the sum over all points
-  // and all i as one matrix product (Eigen's blocked GEMM, the element matrix written once).
+namespace {
+
+// W (9n × 5G) of kl-shell.md §5, eq. (K): row 9l + e, column 5g + i holds entry e of W_i^g(l)
+// (column-major 3 × 3).
+void point_products(const PackedTangent* T, int G, const MatX& Rho, MatX& W) {
   const int n = static_cast<int>(Rho.cols());
   W.resize(9 * n, kDerivatives * G);
   for (int g = 0; g < G; ++g) {
@@ -223,6 +235,16 @@ void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, Ma
             Tg.col(4).segment<9>(9 * i) * r4;
     }
   }
+}
+
+}  // namespace
+
+void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K) {
+  // kl-shell.md §5, eq. (K). W as in point_products; then K (9n × n), row 9l + e, column k,
+  // = W · Rho, the sum over all points and all i as one matrix product (Eigen's blocked GEMM, the
+  // element matrix written once).
+  const int n = static_cast<int>(Rho.cols());
+  point_products(T, G, Rho, W);
   // Only k ≤ l is needed: row chunks of kChunk functions l against the columns k < l1 (chunks of
   // 2 measured slower, 8 waste more). Chunks of rows and of points keep Eigen's packed blocks
   // (≤ 36 × 180 doubles, 52 KB) below its limit for stack allocation: no heap allocation here.
@@ -235,6 +257,24 @@ void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, Ma
       K.block(9 * l0, 0, 9 * (l1 - l0), l1).noalias() +=
           W.block(9 * l0, kDerivatives * g0, 9 * (l1 - l0), kDerivatives * ng) *
           Rho.block(kDerivatives * g0, 0, kDerivatives * ng, l1);
+    }
+  }
+}
+
+void element_tangent_full(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K) {
+  // As element_tangent, but all columns k for every chunk of rows l (no symmetry to use); the same
+  // chunks keep Eigen's packed blocks on the stack.
+  const int n = static_cast<int>(Rho.cols());
+  point_products(T, G, Rho, W);
+  constexpr int kChunk = 4, kPointChunk = 36;
+  K.setZero();
+  for (int l0 = 0; l0 < n; l0 += kChunk) {
+    const int nl = std::min(n, l0 + kChunk) - l0;
+    for (int g0 = 0; g0 < G; g0 += kPointChunk) {
+      const int ng = std::min(G, g0 + kPointChunk) - g0;
+      K.middleRows(9 * l0, 9 * nl).noalias() +=
+          W.block(9 * l0, kDerivatives * g0, 9 * nl, kDerivatives * ng) *
+          Rho.middleRows(kDerivatives * g0, kDerivatives * ng);
     }
   }
 }

@@ -105,6 +105,12 @@ void strain_operator(const CurrentPoint& cur, const NormalFactors& nf, StrainOpe
 // a3 is the normal of the point E belongs to.
 void material_tangent(const StrainOperator& E, const Vec3& a3, const Mat3& Cm, const Mat3& Cb,
                       PointTangent& T);
+// The mixed material product T_ij = E_L,iᵀ D E_R,j, D = diag(Cm, Cb), of two strain operators
+// (generally of two configurations): the ρ-form of B_Lᵀ D B_R. With E_L = E_R it equals
+// material_tangent up to round-off; the discrete gradient's ∂DV/∂x_{n+1} needs
+// ½ B(x_{n+½})ᵀ D B(x_{n+1}) (kl-shell.md §10).
+void material_tangent(const StrainOperator& EL, const StrainOperator& ER, const Mat3& Cm,
+                      const Mat3& Cb, PointTangent& T);
 // Adds the geometric part n·E^m_** + m·E^f_** (3.36) with the second variation of the normal
 // n^** (kl-shell.md §5); s are the resultants, w the weight dA.
 void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, const Resultants& s,
@@ -116,5 +122,8 @@ void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, con
 // K (9n × n, sized by the caller) receives K_kl column-major in rows 9l … 9l + 8 of column k,
 // for k ≤ l (the upper block triangle of the element matrix); other entries are unspecified.
 void element_tangent(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K);
+// The same product for a tangent that is not symmetric (T_ij ≠ T_jiᵀ, the discrete gradient's
+// ∂DV/∂x_{n+1}): K receives every block K_kl, k, l < n, in rows 9l … 9l + 8 of column k.
+void element_tangent_full(const PackedTangent* T, int G, const MatX& Rho, MatX& W, MatX& K);
 
 }  // namespace isoflex::elements::kl
