@@ -287,9 +287,10 @@ TEST(ModelReader, UnknownKey) {
   EXPECT_EQ(error_of(with_bodies({"    colour: red"})),
             "m.yaml:6: bodies[0].colour: unknown key (valid keys: name, mass, inertia, position, "
             "orientation, velocity, angular_velocity, shape)");
-  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
-            "m.yaml:8: solver.tolerance: unknown key (valid keys: formulation, dt, t_end, "
-            "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions, linear)");
+  EXPECT_EQ(
+      error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
+      "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, dt, t_end, "
+      "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions, linear)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -435,6 +436,19 @@ TEST(ModelReader, NamesMustBeUnique) {
   EXPECT_EQ(error_of(with_bodies(
                 {"probes:", "  - name: p", "    body: top", "  - name: p", "    body: top"})),
             "m.yaml:9: probes[1].name: duplicate probe name \"p\" (first at line 7)");
+}
+
+TEST(ModelReader, SolverAnalysis) {
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.analysis,
+            model::Analysis::dynamic);
+  EXPECT_EQ(
+      read_model_string(with_bodies({"solver: {analysis: static}"}), "m.yaml").solver.analysis,
+      model::Analysis::statics);
+  EXPECT_EQ(
+      read_model_string(with_bodies({"solver: {analysis: dynamic}"}), "m.yaml").solver.analysis,
+      model::Analysis::dynamic);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  analysis: transient"})),
+            "m.yaml:7: solver.analysis: unknown analysis \"transient\" (valid: static, dynamic)");
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

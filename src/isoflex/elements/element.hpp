@@ -1,17 +1,28 @@
 #pragma once
 // The element contract (docs/architecture.md): an element maps the stacked coordinates of its
-// nodes to a potential V, its discrete gradient DV(qₙ, qₙ₊₁) with ∂DV/∂qₙ₊₁, and a constant mass
-// matrix. Elements are immutable after construction; configurations are passed in.
+// nodes to a potential V, its gradient, its discrete gradient DV(qₙ, qₙ₊₁) with ∂DV/∂qₙ₊₁, and a
+// constant mass matrix. Elements are immutable after construction; configurations are passed in.
+//
+// Matrices come in two shapes. Small elements (a rigid body, a beam, a director-shell quad) hand
+// out dense matrices over their stacked coordinates. An element with many nodes (a NURBS patch:
+// hundreds of control points, each coupled only to its neighbours) has its own sparsity pattern
+// instead: `pattern()` is computed once and every matrix of the element is given as values in that
+// pattern's storage order, which the system scatters into its fixed global pattern by a map
+// computed once (system/global_matrix.hpp) — no triplets per Newton iteration. The defaults below
+// make a dense element a sparse one with the full pattern (column-major = storage order).
+#include <Eigen/SparseCore>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::elements {
 
+using SpMat = Eigen::SparseMatrix<double>;
+
 class Element {
  public:
   virtual ~Element() = default;
-  // Indices of the element's nodes in the system (each a frame node for now).
+  // Indices of the element's nodes in the system.
   virtual const std::vector<int>& nodes() const = 0;
   virtual double potential(const VecX& q) const = 0;
   virtual VecX gradient(const VecX& q) const = 0;
@@ -19,6 +30,16 @@ class Element {
   virtual VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const = 0;
   // Constant consistent mass matrix of the element, in stacked node coordinates.
   virtual MatX mass() const = 0;
+
+  // --- Assembly into a fixed global pattern ----------------------------------------------------
+  // The element's matrix pattern over its stacked coordinates (compressed, column-major): every
+  // entry ∂DV/∂qₙ₊₁ may fill. Default: dense.
+  virtual SpMat pattern() const;
+  // discrete_gradient with ∂DV/∂qₙ₊₁ written into `values` (pattern().nonZeros() entries, the
+  // pattern's storage order) when values is not null.
+  virtual VecX discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, double* values) const;
+  // The mass matrix without its zero entries (computed once by the system).
+  virtual SpMat sparse_mass() const;
 };
 
 }  // namespace isoflex::elements

@@ -17,6 +17,11 @@ class RigidBody final : public Element {
   VecX gradient(const VecX& q) const override;
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
   MatX mass() const override;
+  // Gravity is linear in q: ∂DV/∂qₙ₊₁ = 0, an empty pattern.
+  SpMat pattern() const override { return SpMat(12, 12); }
+  VecX discrete_gradient_in_pattern(const VecX& qn, const VecX&, double*) const override {
+    return gradient(qn);
+  }
 
   // Euler tensor diagonal E_I from principal moments J_I.
   static Vec3 euler_tensor(const Vec3& J);

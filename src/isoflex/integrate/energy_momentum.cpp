@@ -159,6 +159,8 @@ void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
 SpMat EnergyMomentumIntegrator::reduced_stiffness(const SpMat& Gm, const VecX& r0, const SpMat& Kf,
                                                   double dt) const {
   // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares) stands in for the derivative of 𝖯 (see the header).
+  // Without constraints (a free KL patch) there is no such term.
+  if (Gm.rows() == 0) return (2.0 / dt) * sys_.mass() + dt * Kf;
   const VecX lambda = normal_equations_.solve(Gm, -(Gm * r0) / dt);
   return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
 }
@@ -434,12 +436,14 @@ Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
       for (int a = 0; a < 4; ++a) v.nodes[a] = el->nodes()[a];
       out.shell_elements.push_back(v);
     }
+  for (const auto& k : sys_.kl_patches())
+    out.kl_patches.push_back({k.name, sys_.stacked(s.q, k.nodes)});
   for (const auto& p : sys_.probes()) {
     ProbeValue pv;
     pv.name = p.name;
-    pv.position = sys_.material_point(s.q, p.node, p.X);
-    pv.displacement = pv.position - sys_.material_point(sys_.q0(), p.node, p.X);
-    pv.velocity = sys_.material_velocity(s.q, s.v, p.node, p.X);
+    pv.position = sys_.probe_point(s.q, p);
+    pv.displacement = pv.position - sys_.probe_point(sys_.q0(), p);
+    pv.velocity = sys_.probe_point(s.v, p);  // material points are linear in q
     out.probes.push_back(pv);
   }
   return out;

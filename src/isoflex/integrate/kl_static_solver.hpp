@@ -20,7 +20,7 @@
 
 namespace isoflex::integrate {
 
-using PatchLoads = std::vector<std::shared_ptr<const loads::PatchLoad>>;
+using loads::PatchLoads;
 
 // The provider: (x, t) → (r, K, ‖f_ext‖∞). Throws std::invalid_argument if a load does not
 // have the patch's number of dofs.

@@ -45,6 +45,13 @@ struct ShellElementValue {
   Eigen::Vector2d q = Eigen::Vector2d::Zero();
 };
 
+// The control points of one Kirchhoff–Love patch (kl_shells entry `shell`), stacked in the
+// surface's numbering as elements::KLShellPatch's x: the writers evaluate the deformed surface.
+struct KLPatchValue {
+  std::string shell;
+  VecX x;
+};
+
 struct Snapshot {
   int step = 0;  // 0 = initial state
   double t = 0.0;
@@ -62,6 +69,7 @@ struct Snapshot {
   std::vector<ProbeValue> probes;
   std::vector<BeamElementValue> beam_elements;
   std::vector<ShellElementValue> shell_elements;
+  std::vector<KLPatchValue> kl_patches;
 };
 
 // Observers are called in order after the initial state and after every converged step.

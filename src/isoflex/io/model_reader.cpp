@@ -103,10 +103,18 @@ class Reader : YamlFields {
     }
     const KLShellReader kl(file());  // kl_shell_reader.cpp
     m.kl_shells = kl.shells(root["kl_shells"], m.surfaces);
-    for (const auto& s : m.kl_shells)
+    for (const auto& s : m.kl_shells) {
       if (body_lines_.contains(s.name) || beams_.contains(s.name))
         fail(root["kl_shells"], "kl_shells",
              "\"" + s.name + "\" names a body, beam or shell already");
+      // Its control points are nodes "<shell>[A]" (dynamic runs).
+      const auto surface =
+          std::find_if(m.surfaces.begin(), m.surfaces.end(),
+                       [&](const model::Surface& f) { return f.name == s.surface; });
+      if (surface != m.surfaces.end())
+        beams_.emplace(s.name, BeamInfo{s.source.line,
+                                        static_cast<int>(surface->surface.points.size()), true});
+    }
     if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];
@@ -151,8 +159,14 @@ class Reader : YamlFields {
     if (n.IsNull()) return;
     expect_map(n, "solver");
     check_keys(n, "solver",
-               {"formulation", "dt", "t_end", "residual_tolerance", "increment_tolerance",
-                "max_iterations", "max_subdivisions", "linear"});
+               {"analysis", "formulation", "dt", "t_end", "residual_tolerance",
+                "increment_tolerance", "max_iterations", "max_subdivisions", "linear"});
+    if (const auto v = n["analysis"]) {
+      const std::string name = string(v, "solver.analysis");
+      if (name != "static" && name != "dynamic")
+        fail(v, "solver.analysis", "unknown analysis \"" + name + "\" (valid: static, dynamic)");
+      s.analysis = name == "static" ? model::Analysis::statics : model::Analysis::dynamic;
+    }
     if (const auto v = n["formulation"]) {
       const std::string name = string(v, "solver.formulation");
       const auto f = model::formulation_from_string(name);

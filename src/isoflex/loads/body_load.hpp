@@ -21,6 +21,9 @@ class BodyLoad {
   Vec<12> generalized_force(const Vec<12>& q, double t) const;
   // ∂f/∂q (12 × 12), constant in q.
   Mat<12, 12> generalized_force_derivative(double t) const;
+  // Whether generalized_force depends on q (only through the moment): the derivative may be
+  // non-zero.
+  bool has_moment() const { return moment_.has_value(); }
   Vec3 force(double t) const;
   Vec3 moment(double t) const;
 

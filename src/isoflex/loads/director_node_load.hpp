@@ -22,6 +22,9 @@ class DirectorNodeLoad {
   Vec<6> generalized_force(const Vec<6>& q, double t) const;
   // ∂f/∂q (6 × 6), constant in q.
   Mat<6, 6> generalized_force_derivative(double t) const;
+  // Whether generalized_force depends on q (only through the moment): the derivative may be
+  // non-zero.
+  bool has_moment() const { return moment_.has_value(); }
 
  private:
   int node_;

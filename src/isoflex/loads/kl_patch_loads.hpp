@@ -19,6 +19,7 @@
 // dead: their force is computed once, at construction. The follower tangent is not symmetric in
 // general (its skew part is a boundary term that cancels only for closed or fixed boundaries).
 #include <Eigen/SparseCore>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,6 +54,9 @@ class PatchLoad {
  private:
   TimeFunction factor_;
 };
+
+// The loads of one patch.
+using PatchLoads = std::vector<std::shared_ptr<const PatchLoad>>;
 
 // Basis data at the Gauss points of a patch, evaluated once (the loads share nothing else).
 struct PatchQuadrature {

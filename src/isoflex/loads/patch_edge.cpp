@@ -57,4 +57,12 @@ double edge_parameter(const geometry::NurbsSurface& s, PatchEdge e) {
   return 0.0;
 }
 
+PatchEdge patch_edge_from_string(const std::string& name) {
+  if (name == "u0") return PatchEdge::u0;
+  if (name == "u1") return PatchEdge::u1;
+  if (name == "v0") return PatchEdge::v0;
+  if (name == "v1") return PatchEdge::v1;
+  throw std::invalid_argument("unknown patch edge \"" + name + "\" (valid: u0, u1, v0, v1)");
+}
+
 }  // namespace isoflex::loads

@@ -15,6 +15,8 @@ namespace isoflex::loads {
 enum class PatchEdge { u0, u1, v0, v1 };
 
 std::string to_string(PatchEdge e);
+// "u0", "u1", "v0", "v1" (the model reader checks the names): the edge.
+PatchEdge patch_edge_from_string(const std::string& name);
 
 // True for u0/u1: the edge runs along η (its parameter is η, its knot vector s.v).
 inline bool edge_runs_along_v(PatchEdge e) {

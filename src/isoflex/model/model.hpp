@@ -307,7 +307,12 @@ struct KLLoad {
 
 enum class Formulation { constrained, nullspace, reparametrized };
 
+// What `isoflex run` computes: a motion in time, or static equilibrium under a load parameter
+// t ∈ [0, t_end] (`run --static` overrides the model).
+enum class Analysis { dynamic, statics };
+
 struct Solver {
+  Analysis analysis = Analysis::dynamic;
   Formulation formulation = Formulation::reparametrized;
   double dt = 1e-2;
   double t_end = 1.0;

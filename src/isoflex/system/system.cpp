@@ -14,6 +14,7 @@
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/kl_model.hpp"
 
 namespace isoflex::system {
 
@@ -24,8 +25,7 @@ using joints::NodeKind;
 namespace {
 
 [[noreturn]] void fail(const model::Source& s, const std::string& what, const std::string& msg) {
-  throw CompileError(
-      fmt::format("{}:{}: {}: {}", s.file.empty() ? "<model>" : s.file, s.line, what, msg));
+  compile_fail(s, what, msg);
 }
 
 joints::Kind kind_of(model::JointType t) {
@@ -81,11 +81,10 @@ joints::Joint::CRef System::node_q(const VecX& q, int node) const {
 void System::add_node(NodeKind kind, const VecX& q0, const std::string& name, int beam) {
   const NodeType& type = isoflex::node_type(kind);
   assert(q0.size() == type.coordinates());
-  nodes_.push_back({&type, static_cast<int>(q0_.size()), internal_rows_});
+  nodes_.push_back({&type, static_cast<int>(q0_build_.size()), internal_rows_});
   internal_rows_ += type.internal_rows();
   ++kind_count_[static_cast<int>(kind)];
-  q0_.conservativeResize(q0_.size() + q0.size());
-  q0_.tail(q0.size()) = q0;
+  q0_build_.insert(q0_build_.end(), q0.data(), q0.data() + q0.size());
   node_names_.push_back(name);
   node_beam_.push_back(beam);
 }
@@ -203,6 +202,11 @@ System System::compile(const model::Model& model) {
     next += S.node_count();
     s.shells_.push_back(std::move(inst));
   }
+  s.add_kl_patches(model);
+  for (const KLPatchInstance& k : s.kl_patches_)
+    for (int node : k.nodes) index[s.node_names_[node]] = node;
+  s.q0_ = Eigen::Map<const VecX>(s.q0_build_.data(), static_cast<Eigen::Index>(s.q0_build_.size()));
+  s.q0_build_ = {};
   auto find_body = [&](const std::string& name, const model::Source& src, const std::string& what) {
     if (name == "ground") return -1;
     auto it = index.find(name);
@@ -214,7 +218,13 @@ System System::compile(const model::Model& model) {
   // Mass matrix.
   {
     Triplets t;
-    for (const auto& e : s.elements_) s.scatter(t, e->nodes(), e->mass());
+    for (const auto& e : s.elements_) {
+      const std::vector<int> c = s.coordinates_of(e->nodes());
+      const SpMat Me = e->sparse_mass();
+      for (int j = 0; j < Me.outerSize(); ++j)
+        for (SpMat::InnerIterator it(Me, j); it; ++it)
+          t.emplace_back(c[it.row()], c[it.col()], it.value());
+    }
     s.M_.resize(s.n(), s.n());
     s.M_.setFromTriplets(t.begin(), t.end());
   }
@@ -335,10 +345,14 @@ System System::compile(const model::Model& model) {
   // Probes.
   for (std::size_t p = 0; p < model.probes.size(); ++p) {
     const auto& P = model.probes[p];
+    if (!P.kl_shell.empty()) {
+      s.probes_.push_back(s.kl_probe(P));
+      continue;
+    }
     const int node = find_body(P.body, P.source, fmt::format("probes[{}].body", p));
     if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
     // A shell node's probe follows the node's mid-surface point (NodeType::local_coordinates).
-    s.probes_.push_back({P.name, node, s.body_coordinates(node, P.point, P.point_local)});
+    s.probes_.push_back({P.name, node, s.body_coordinates(node, P.point, P.point_local), {}});
   }
 
   // Joint graph and spanning forest rooted at the ground (breadth first, so chains hang from the
@@ -638,21 +652,77 @@ System System::compile(const model::Model& model) {
     s.tree_factors(s.q0_, L, B, Pint);
     s.v0_ = Pint * solve::solve(L, B * nu0);
   }
+  s.build_stiffness_pattern();
   return s;
 }
 
-void System::scatter(Triplets& t, const std::vector<int>& nodes, const MatX& Ke) const {
-  int oa = 0;
-  for (int a : nodes) {
-    const int ca = coordinate_count(a);
-    int ob = 0;
-    for (int b : nodes) {
-      const int cb = coordinate_count(b);
-      add_block(t, nodes_[a].q_offset, nodes_[b].q_offset, Ke.block(oa, ob, ca, cb));
-      ob += cb;
-    }
-    oa += ca;
+// Kirchhoff–Love patches (docs/model-files.md "kl_shells"): a point node "<shell>[A]" per control
+// point A, the patch as one element over them, its kl_loads. Supports and multipatch coupling
+// are not yet constraints of the system: a dynamic model with kl_supports is refused.
+void System::add_kl_patches(const model::Model& m) {
+  if (m.kl_shells.empty()) return;
+  if (m.kl_shells.size() > 1)
+    fail(m.kl_shells[1].source, "kl_shells[1]",
+         "one Kirchhoff–Love patch per model for now (multipatch coupling is not built yet)");
+  if (!m.kl_supports.empty())
+    fail(m.kl_supports.front().source, "kl_supports",
+         "Kirchhoff–Love supports act in static analyses only for now (solver.analysis: static "
+         "or run --static); a moving patch is free");
+  const model::KLShell& S = m.kl_shells.front();
+  KLPatchInstance inst;
+  inst.name = S.name;
+  auto patch = kl_patch(m, 0);
+  const int group = static_cast<int>(m.beams.size() + m.shells.size());
+  const geometry::NurbsSurface& g = patch->reference();
+  for (int A = 0; A < patch->control_points(); ++A) {
+    inst.nodes.push_back(node_count());
+    add_node(NodeKind::point, g.points[A], fmt::format("{}[{}]", S.name, A), group);
   }
+  auto element = std::make_unique<elements::KLPatchElement>(patch, kl_kinematics(m), inst.nodes);
+  inst.element = element.get();
+  inst.element_index = static_cast<int>(elements_.size());
+  elements_.push_back(std::move(element));
+  inst.loads = kl_patch_loads(m, S);
+  kl_patches_.push_back(std::move(inst));
+}
+
+ProbeInstance System::kl_probe(const model::Probe& P) const {
+  const auto patch = std::find_if(kl_patches_.begin(), kl_patches_.end(),
+                                  [&](const KLPatchInstance& k) { return k.name == P.kl_shell; });
+  if (patch == kl_patches_.end())
+    fail(P.source, "probes", "no kl_shell named '" + P.kl_shell + "'");
+  const geometry::NurbsSurface& g = patch->element->patch().reference();
+  const geometry::SurfaceBasis B = geometry::surface_basis(g, P.xi, P.eta);
+  ProbeInstance out{P.name, -1, Vec3::Zero(), {}};
+  for (int k = 0; k < B.R.cols(); ++k)
+    out.weights.push_back({patch->nodes[B.global_index(g, k)], B.R(0, k)});
+  return out;
+}
+
+Vec3 System::probe_point(const VecX& q, const ProbeInstance& p) const {
+  if (p.weights.empty()) return material_point(q, p.node, p.X);
+  Vec3 x = Vec3::Zero();
+  for (const auto& [node, w] : p.weights) x += w * q.segment<3>(nodes_[node].q_offset);
+  return x;
+}
+
+std::vector<int> System::coordinates_of(const std::vector<int>& nodes) const {
+  std::vector<int> c;
+  for (int a : nodes)
+    for (int k = 0; k < coordinate_count(a); ++k) c.push_back(nodes_[a].q_offset + k);
+  return c;
+}
+
+void System::build_stiffness_pattern() {
+  for (const auto& e : elements_)
+    element_part_.push_back(stiffness_.add(e->pattern(), coordinates_of(e->nodes())));
+  // A load's derivative is non-zero only through a moment (follower part M × d).
+  for (const auto& L : loads_)
+    load_part_.push_back(L.has_moment() ? stiffness_.add_dense(coordinates_of({L.node()})) : -1);
+  for (const auto& L : director_loads_)
+    director_load_part_.push_back(L.has_moment() ? stiffness_.add_dense(coordinates_of({L.node()}))
+                                                 : -1);
+  stiffness_.finalize(n());
 }
 
 std::shared_ptr<const joints::Joint> System::director_joint(const model::Joint& J, int parent,
@@ -688,35 +758,60 @@ double System::potential(const VecX& q) const {
 
 VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const {
   VecX f = VecX::Zero(n());
-  Triplets t;
-  MatX Ke;
-  for (const auto& e : elements_) {
+  if (K) stiffness_.reset(*K);
+  std::vector<double> values;
+  for (std::size_t i = 0; i < elements_.size(); ++i) {
+    const auto& e = elements_[i];
     const auto& nodes = e->nodes();
-    const VecX dv =
-        e->discrete_gradient(stacked(qn, nodes), stacked(qn1, nodes), K ? &Ke : nullptr);
+    if (K) values.resize(stiffness_.local_entries(element_part_[i]));
+    const VecX dv = e->discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes),
+                                                    K ? values.data() : nullptr);
     int o = 0;
     for (int a : nodes) {
       const int c = coordinate_count(a);
       f.segment(nodes_[a].q_offset, c) += dv.segment(o, c);
       o += c;
     }
-    if (K) scatter(t, nodes, Ke);
+    if (K) stiffness_.scatter(element_part_[i], values.data(), *K);
   }
-  for (const auto& L : loads_) {
+  for (std::size_t l = 0; l < loads_.size(); ++l) {
+    const auto& L = loads_[l];
     const int o = nodes_[L.node()].q_offset;
     const fn::Q qm = 0.5 * (qn.segment<12>(o) + qn1.segment<12>(o));
     f.segment<12>(o) -= L.generalized_force(qm, t_mid);
-    if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
+    if (K && load_part_[l] >= 0) {
+      const Mat<12, 12> D = -0.5 * L.generalized_force_derivative(t_mid);
+      stiffness_.scatter(load_part_[l], D.data(), *K);
+    }
   }
-  for (const auto& L : director_loads_) {
+  for (std::size_t l = 0; l < director_loads_.size(); ++l) {
+    const auto& L = director_loads_[l];
     const int o = nodes_[L.node()].q_offset;
     const dn::Q qm = 0.5 * (qn.segment<6>(o) + qn1.segment<6>(o));
     f.segment<6>(o) -= L.generalized_force(qm, t_mid);
-    if (K) add_block(t, o, o, -0.5 * L.generalized_force_derivative(t_mid));
+    if (K && director_load_part_[l] >= 0) {
+      const Mat<6, 6> D = -0.5 * L.generalized_force_derivative(t_mid);
+      stiffness_.scatter(director_load_part_[l], D.data(), *K);
+    }
   }
-  if (K) {
-    K->resize(n(), n());
-    K->setFromTriplets(t.begin(), t.end());
+  // Patch loads at the midpoint, λ(t_{n+½}) f(x_{n+½}); a follower load's tangent is −½ λ ∂f/∂x.
+  for (std::size_t p = 0; p < kl_patches_.size(); ++p) {
+    const KLPatchInstance& P = kl_patches_[p];
+    if (P.loads.empty()) continue;
+    const VecX xm = 0.5 * (stacked(qn, P.nodes) + stacked(qn1, P.nodes));
+    VecX fe = VecX::Zero(xm.size());
+    SpMat Kl;
+    for (const auto& L : P.loads) {
+      const double lambda = L->factor(t_mid);
+      if (lambda == 0.0) continue;
+      fe += lambda * L->force(xm);
+      if (!K || !L->follower()) continue;
+      if (Kl.size() == 0) Kl = P.element->pattern();
+      L->add_tangent(xm, -0.5 * lambda, Kl);
+    }
+    for (std::size_t k = 0; k < P.nodes.size(); ++k)
+      f.segment<3>(nodes_[P.nodes[k]].q_offset) -= fe.segment<3>(3 * k);
+    if (Kl.size() != 0) stiffness_.scatter(element_part_[P.element_index], Kl.valuePtr(), *K);
   }
   return f;
 }

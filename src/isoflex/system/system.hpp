@@ -18,6 +18,7 @@
 //   q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
 #include <Eigen/SparseCore>
 #include <array>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -27,21 +28,20 @@
 #include "isoflex/elements/beam_element.hpp"
 #include "isoflex/elements/director_shell_element.hpp"
 #include "isoflex/elements/element.hpp"
+#include "isoflex/elements/kl_patch_element.hpp"
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/joints/joint.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
+#include "isoflex/loads/kl_patch_loads.hpp"
 #include "isoflex/model/model.hpp"
+#include "isoflex/system/compile_error.hpp"
+#include "isoflex/system/global_matrix.hpp"
 
 namespace isoflex::system {
 
 using SpMat = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
-
-class CompileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct JointInstance {
   std::string name;
@@ -70,10 +70,23 @@ struct ShellInstance {
   std::vector<const elements::DirectorShellElement*> elements;
 };
 
+// A Kirchhoff–Love patch of the model: one point node per control point (surface numbering),
+// its element and its loads.
+struct KLPatchInstance {
+  std::string name;
+  std::vector<int> nodes;
+  const elements::KLPatchElement* element = nullptr;
+  int element_index = -1;  // in System::elements()
+  loads::PatchLoads loads;
+};
+
+// A material point followed by a probe: X in the coordinates of `node`, or (KL patches) the
+// combination Σ w φ of control points given by `weights` (node, R_A(ξ, η)).
 struct ProbeInstance {
   std::string name;
-  int node;
-  Vec3 X;  // body coordinates
+  int node = -1;
+  Vec3 X = Vec3::Zero();
+  std::vector<std::pair<int, double>> weights;
 };
 
 class System {
@@ -166,6 +179,11 @@ class System {
   Vec3 angular_momentum(const VecX& q, const VecX& v) const;
 
   const std::vector<ProbeInstance>& probes() const { return probes_; }
+  // The probe's material point in q (its velocity: the same map applied to v).
+  Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
+  const std::vector<KLPatchInstance>& kl_patches() const { return kl_patches_; }
+  // The fixed pattern of discrete_force's K.
+  const GlobalMatrix& stiffness_pattern() const { return stiffness_; }
   const std::vector<BeamInstance>& beams() const { return beams_; }
   const std::vector<ShellInstance>& shells() const { return shells_; }
   const std::string& node_name(int i) const { return node_names_[i]; }
@@ -191,8 +209,12 @@ class System {
   InputBlocks input_blocks(const VecX& q) const;
   InputBlocks update_input_blocks(const VecX& qn, const VecX& q1, const VecX& u) const;
   SpMat twist_map(const VecX& q, const InputBlocks& in) const;
-  // Adds an element matrix (stacked node coordinates) to the global pattern.
-  void scatter(Triplets& t, const std::vector<int>& nodes, const MatX& Ke) const;
+  // The global coordinates of the given nodes, stacked.
+  std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
+  // Compile phases (system.cpp): each adds its part of the model.
+  void add_kl_patches(const model::Model& m);
+  ProbeInstance kl_probe(const model::Probe& p) const;
+  void build_stiffness_pattern();
   // A joint with a shell node on either side (joints/director_joints.hpp).
   std::shared_ptr<const joints::Joint> director_joint(const model::Joint& J, int parent, int child,
                                                       const std::string& what) const;
@@ -211,6 +233,11 @@ class System {
   std::vector<loads::BodyLoad> loads_;
   std::vector<loads::DirectorNodeLoad> director_loads_;
   std::vector<ShellInstance> shells_;
+  std::vector<KLPatchInstance> kl_patches_;
+  // discrete_force's K: the fixed pattern and the part of each element and load.
+  GlobalMatrix stiffness_;
+  std::vector<int> element_part_, load_part_, director_load_part_;
+  std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
   std::vector<int> tree_order_;  // joint indices, parents before children
   std::vector<int> roots_;

@@ -1,0 +1,25 @@
+#include "isoflex/elements/element.hpp"
+
+#include <algorithm>
+
+namespace isoflex::elements {
+
+SpMat Element::pattern() const {
+  // The size from the mass matrix: the element's stacked coordinates.
+  const MatX M = mass();
+  return MatX::Ones(M.rows(), M.cols()).sparseView();
+}
+
+VecX Element::discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, double* values) const {
+  if (!values) return discrete_gradient(qn, qn1, nullptr);
+  MatX K;
+  const VecX dv = discrete_gradient(qn, qn1, &K);
+  std::copy(K.data(), K.data() + K.size(), values);  // column-major: the dense pattern's order
+  return dv;
+}
+
+SpMat Element::sparse_mass() const {
+  return mass().sparseView(0.0, 0.0);
+}
+
+}  // namespace isoflex::elements

@@ -1,0 +1,46 @@
+#pragma once
+// A sparse matrix over the system's coordinates whose pattern is fixed when the system is compiled:
+// the union of its contributors' patterns (elements, loads), and for each contributor a map from
+// its local storage order to the global one. Assembling is then `values[map[k]] += local[k]` per
+// contributor, with no triplets and no sorting per Newton iteration, and the sum over the
+// contributors of an entry runs in the order they were added.
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::system {
+
+class GlobalMatrix {
+ public:
+  using SpMat = Eigen::SparseMatrix<double>;
+
+  // Registers a contributor with its local pattern (compressed) over the global coordinates
+  // `coords` (local row/column i is global coords[i]); returns its id. Before finalize().
+  int add(const SpMat& local, std::vector<int> coords);
+  // A dense contributor: every entry of the rows × columns block over coords.
+  int add_dense(std::vector<int> coords);
+  // Builds the n × n pattern and the maps.
+  void finalize(int n);
+
+  // The pattern with zero values.
+  const SpMat& zero() const { return pattern_; }
+  // Sets K to the pattern with zero values, keeping K's storage when it has the pattern already.
+  void reset(SpMat& K) const;
+  // Positions in the global storage of contributor id's local entries (its storage order).
+  const std::vector<int>& map(int id) const { return maps_[id]; }
+  int local_entries(int id) const { return static_cast<int>(maps_[id].size()); }
+  // K.valuePtr()[map[k]] += local[k], K in the pattern (reset()).
+  void scatter(int id, const double* local, SpMat& K) const;
+
+ private:
+  struct Contributor {
+    SpMat local;  // empty for a dense one
+    std::vector<int> coords;
+  };
+  std::vector<Contributor> parts_;
+  std::vector<std::vector<int>> maps_;
+  SpMat pattern_;
+};
+
+}  // namespace isoflex::system
