@@ -4,6 +4,8 @@
 
 #include <functional>
 #include <iterator>
+#include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "isoflex/io/nurbs_vtk_writer.hpp"
@@ -12,8 +14,13 @@
 
 namespace isoflex::io {
 
-std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int n_per_span) {
-  const elements::KLShellPatch& patch = a.patch();
+std::string kl_shell_vtu(const elements::KLShellPatch& patch, elements::KLKinematics kin,
+                         const VecX& x, int n_per_span) {
+  if (x.size() != patch.dofs()) {
+    throw std::invalid_argument(
+        fmt::format("KL shell VTU: {} coordinates for a patch of {} control points", x.size(),
+                    patch.control_points()));
+  }
   geometry::NurbsSurface deformed = patch.reference();
   std::vector<double> u(static_cast<std::size_t>(x.size()));
   const VecX X = patch.reference_positions();
@@ -40,7 +47,7 @@ std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int
         xr += 1e-4 * (0.5 * (ref.u.front() + ref.u.back()) - xi);
         er += 1e-4 * (0.5 * (ref.v.front() + ref.v.back()) - eta);
       }
-      cache->s = patch.stress(x, xr, er, a.kinematics());
+      cache->s = patch.stress(x, xr, er, kin);
       cache->xi = xi;
       cache->eta = eta;
     }
@@ -76,6 +83,10 @@ std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int
       field("von_mises_bottom", 1, [](const auto& s, double* o) { o[0] = s.von_mises_bottom; }));
   fields.push_back(field("e1", 3, [&](const auto& s, double* o) { vec3(s.frame.col(0), o); }));
   return nurbs_tessellated_vtu(deformed, n_per_span, fields);
+}
+
+std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int n_per_span) {
+  return kl_shell_vtu(a.patch(), a.kinematics(), x, n_per_span);
 }
 
 KLShellVtkWriter::KLShellVtkWriter(const std::filesystem::path& outdir,

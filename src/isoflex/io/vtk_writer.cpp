@@ -7,11 +7,14 @@
 #include <functional>
 #include <iterator>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <system_error>
 
+#include "isoflex/io/kl_shell_vtk.hpp"
 #include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
+#include "isoflex/system/kl_model.hpp"
 
 namespace isoflex::io {
 
@@ -280,9 +283,26 @@ BodyMesh beam_element_mesh(const integrate::BodyPose& a, const integrate::BodyPo
   return m;
 }
 
+std::vector<std::string> kl_patch_file_stems(const model::Model& model) {
+  // "step" would put a patch's files over the step files.
+  std::set<std::string> used{"step"};
+  std::vector<std::string> stems;
+  for (std::size_t k = 0; k < model.kl_shells.size(); ++k) {
+    std::string stem = model.kl_shells[k].name;
+    for (char& c : stem) {
+      const bool keep = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
+                        (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
+      if (!keep) c = '_';
+    }
+    while (!used.insert(stem).second) stem += fmt::format("-{}", k);
+    stems.push_back(stem);
+  }
+  return stems;
+}
+
 VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model,
-                                 int every)
-    : outdir_(outdir), every_(every) {
+                                 int every, int kl_per_span)
+    : outdir_(outdir), kl_per_span_(kl_per_span), every_(every) {
   shapes_.reserve(model.bodies.size());
   for (const auto& b : model.bodies) shapes_.push_back(b.shape);
   for (const auto& b : model.beams) {
@@ -297,6 +317,12 @@ VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const mode
     shell_names_.push_back(sh.name);
   }
   if (every_ <= 0) return;
+  const std::vector<std::string> stems = kl_patch_file_stems(model);
+  for (std::size_t k = 0; k < model.kl_shells.size(); ++k) {
+    kl_ids_[model.kl_shells[k].name] = static_cast<int>(k);
+    kl_.push_back({system::kl_patch(model, static_cast<int>(k)), stems[k]});
+  }
+  kl_kinematics_ = system::kl_kinematics(model);
   std::error_code ec;
   std::filesystem::create_directories(outdir_ / "vtk", ec);
   if (ec) {
@@ -551,15 +577,43 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
   write_file_atomic(outdir_ / name, std::string_view(out.data(), out.size()));
   files_.push_back(name);
   last_written_step_ = s.step;
+  add_pvd_entry(s.t, 0, name);
+  write_kl_patches(s);
 
-  fmt::format_to(std::back_inserter(pvd_entries_),
-                 "    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
-                 std::isfinite(s.t) ? s.t : 0.0, name);
-  pvd_dirty_ = true;
   // Rewriting the whole collection each time costs O(files²) in total; beyond a few thousand
   // files it is rewritten at most once a second (and always on finish).
   const auto now = std::chrono::steady_clock::now();
   if (files_.size() <= 2000 || now - last_pvd_write_ >= std::chrono::seconds(1)) write_pvd();
+}
+
+void VtkSeriesWriter::write_kl_patches(const integrate::Snapshot& s) {
+  for (const auto& value : s.kl_patches) {
+    const auto found = kl_ids_.find(value.shell);
+    if (found == kl_ids_.end()) {
+      throw std::runtime_error(fmt::format(
+          "VTK output: snapshot has the Kirchhoff–Love patch \"{}\", not in the model's kl_shells",
+          value.shell));
+    }
+    const KLPatchOutput& out = kl_[found->second];
+    if (value.x.size() != out.patch->dofs()) {
+      throw std::runtime_error(fmt::format(
+          "VTK output: Kirchhoff–Love patch \"{}\" has {} coordinates in the snapshot, {} in "
+          "the model",
+          value.shell, value.x.size(), out.patch->dofs()));
+    }
+    const std::string name = fmt::format("vtk/{}_{:06d}.vtu", out.stem, s.step);
+    write_file_atomic(outdir_ / name,
+                      kl_shell_vtu(*out.patch, kl_kinematics_, value.x, kl_per_span_));
+    files_.push_back(name);
+    add_pvd_entry(s.t, 1 + found->second, name);
+  }
+}
+
+void VtkSeriesWriter::add_pvd_entry(double t, int part, const std::string& file) {
+  fmt::format_to(std::back_inserter(pvd_entries_),
+                 "    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
+                 std::isfinite(t) ? t : 0.0, part, file);
+  pvd_dirty_ = true;
 }
 
 std::string pvd_collection(const std::string& entries) {

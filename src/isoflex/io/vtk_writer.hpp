@@ -29,15 +29,27 @@
 //   point data: displacement (Float64 × 3) = φ − φ at the first snapshot, and director
 //               (Float64 × 3) = d, on the shell points; 0 on the points of bodies and beams
 //   field data: shell_id[NAME] (Int32, one per shell of the model: its shell_id, the legend)
+//
+// Kirchhoff–Love patches (Snapshot::kl_patches, and only when the snapshot has them) go to files
+// of their own, vtk/<shell>_NNNNNN.vtu for the same written steps: the tessellated deformed
+// patch with kl_shell_vtu's fields (kl_shell_vtk.hpp), its displacement from the patch's
+// reference surface. They are not merged into the step file because their point and cell arrays
+// differ from the multibody ones (see above for what VTK makes of that). results.pvd lists each
+// as part 1 + k (k = its index in model.kl_shells) of the step's time, next to the step file as
+// part 0, so ParaView reads every time step as one multiblock data set. <shell> is the shell's
+// name with every character other than A–Z, a–z, 0–9, '_', '.', '-' replaced by '_', and "-k"
+// appended while it is "step" or another patch's (kl_patch_file_stems).
 #include <array>
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "isoflex/integrate/snapshot.hpp"
+#include "isoflex/io/kl_shell_vtk.hpp"
 #include "isoflex/model/model.hpp"
 
 namespace isoflex::io {
@@ -82,10 +94,16 @@ BodyMesh beam_element_mesh(const integrate::BodyPose& a, const integrate::BodyPo
 // A ParaView collection (.pvd) of the given <DataSet .../> lines.
 std::string pvd_collection(const std::string& entries);
 
+// The file-name stems of the model's kl_shells (index = kl_shells index): unique, none "step".
+std::vector<std::string> kl_patch_file_stems(const model::Model& model);
+
 class VtkSeriesWriter : public integrate::Observer {
  public:
-  // Creates outdir/vtk. every ≤ 0 writes nothing at all.
-  VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model, int every);
+  // Creates outdir/vtk and builds the model's Kirchhoff–Love patches (system::kl_patch; throws
+  // its CompileError for a shell it cannot build). every ≤ 0 writes nothing at all.
+  // kl_per_span: quads per knot span and direction of the patch files.
+  VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model, int every,
+                  int kl_per_span = kKLShellQuadsPerSpan);
   // Writes a collection that is still behind (a run that ended without on_finish).
   ~VtkSeriesWriter() override;
   VtkSeriesWriter(const VtkSeriesWriter&) = delete;
@@ -94,11 +112,14 @@ class VtkSeriesWriter : public integrate::Observer {
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
-  // Files written so far, relative to outdir (e.g. "vtk/step_000010.vtu").
+  // Files written so far, relative to outdir (e.g. "vtk/step_000010.vtu", then the patch files
+  // of that step).
   const std::vector<std::string>& files() const { return files_; }
 
  private:
   void write_vtu(const integrate::Snapshot& s);
+  void write_kl_patches(const integrate::Snapshot& s);
+  void add_pvd_entry(double t, int part, const std::string& file);
   void write_pvd();
 
   std::filesystem::path outdir_;
@@ -106,6 +127,16 @@ class VtkSeriesWriter : public integrate::Observer {
   std::map<std::string, std::array<double, 2>> beam_sections_;  // drawn width, height per beam
   std::vector<std::string> shell_names_;                        // index = shell_id
   std::map<std::string, int> shell_ids_;
+  // Per kl_shells entry: the patch (reference geometry and material of the stress recovery) and
+  // the stem of its files.
+  struct KLPatchOutput {
+    std::shared_ptr<const elements::KLShellPatch> patch;
+    std::string stem;
+  };
+  std::map<std::string, int> kl_ids_;  // shell name → index into kl_
+  std::vector<KLPatchOutput> kl_;
+  elements::KLKinematics kl_kinematics_ = elements::KLKinematics::nonlinear;  // of the recovery
+  int kl_per_span_;
   // φ of every node at the first snapshot: the reference of the shells' displacement.
   std::vector<Vec3> reference_positions_;
   bool have_reference_ = false;
