@@ -159,13 +159,15 @@ TEST(KLCli, BadInputExitsWith2) {
   r = run("check " + (d / "cad.yaml").string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("cad.yaml:3: surfaces[0].cad.patch:"), std::string::npos) << r.out;
-  // A dynamic analysis of a supported patch: supports act in static analyses only for now.
+  // A dynamic analysis holds supports in all components only (simply supported is static only).
   std::string dynamic = plate();
   dynamic.replace(dynamic.find("analysis: static"), 16, "analysis: dynamic");
+  dynamic.replace(dynamic.find("fixed: all"), 10, "fixed: [z]");
   std::ofstream(d / "m.yaml") << dynamic;
   r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.out.find("m.yaml:12: kl_supports: Kirchhoff–Love supports act in static analyses"),
+  EXPECT_NE(r.out.find("m.yaml:12: kl_supports[0]: in a dynamic run a Kirchhoff–Love support "
+                       "holds all components"),
             std::string::npos)
       << r.out;
   EXPECT_FALSE(fs::exists(d / "o" / "summary.json"));
@@ -184,4 +186,19 @@ TEST(KLCli, NewtonFailureKeepsResultsAndSaysWhere) {
   EXPECT_NE(r.out.find("results up to load step 1, t = 0.5"), std::string::npos) << r.out;
   EXPECT_NE(read(d / "out" / "summary.json").find("\"status\": \"failed\""), std::string::npos);
   EXPECT_TRUE(fs::exists(d / "out" / "vtk" / "step_000001.vtu"));
+}
+
+TEST(KLCli, CheckCountsNodeAndConstraintKindsOfAPatchOnABody) {
+  const Result r =
+      run("check " + std::string(ISOFLEX_SOURCE_DIR) + "/examples/kl_plate_on_hub/model.yaml");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("nodes            56 (1 frame nodes, 12 coordinates each; 55 point nodes, "
+                       "3 coordinates each)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("constraint rows  internal 6; kl_support 30 (10 joints)"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("unknowns         constrained 213, nullspace 177, reparametrized 141"),
+            std::string::npos)
+      << r.out;
 }

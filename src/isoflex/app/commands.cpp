@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -139,6 +140,22 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
              sys.m_selected(), m_int, sys.m_selected() - m_int);
+  {
+    // Rows per constraint kind (all rows, redundant ones included): the nodes' internal rows,
+    // then each joint type in the order it first appears.
+    std::vector<std::pair<std::string, std::array<int, 2>>> kinds;  // rows, joints
+    for (const auto& J : sys.joints()) {
+      auto it = std::find_if(kinds.begin(), kinds.end(),
+                             [&](const auto& k) { return k.first == J.type; });
+      if (it == kinds.end()) it = kinds.insert(kinds.end(), {J.type, {0, 0}});
+      it->second[0] += J.joint->constraint_count();
+      ++it->second[1];
+    }
+    std::string text = fmt::format("internal {}", m_int);
+    for (const auto& [type, c] : kinds)
+      text += fmt::format("; {} {} ({} joint{})", type, c[0], c[1], c[1] == 1 ? "" : "s");
+    fmt::print(out, "constraint rows  {}\n", text);
+  }
   fmt::print(out, "redundant        {}", sys.redundant_rows().size());
   if (!sys.redundant_rows().empty())
     fmt::print(out, "  (dropped: {}; full-pivot LU rank {} = pivoted QR rank {})",

@@ -132,7 +132,8 @@ std::vector<model::KLSupport> KLShellReader::supports(const YAML::Node& list,
     const std::string p = indexed("kl_supports", i);
     expect_map(n, p);
     check_keys(n, p,
-               {"shell", "edge", "control_points", "fixed", "clamped", "symmetry", "displacement"});
+               {"shell", "edge", "control_points", "fixed", "clamped", "symmetry", "displacement",
+                "body"});
     model::KLSupport s;
     s.source = source(n);
     const model::KLShell& shell = find_shell(require(n, p, "shell"), join(p, "shell"), m);
@@ -141,6 +142,12 @@ std::vector<model::KLSupport> KLShellReader::supports(const YAML::Node& list,
     if ((n["edge"] ? 1 : 0) + (n["control_points"] ? 1 : 0) != 1)
       fail(n, p, "give exactly one of edge or control_points");
     if (const auto e = n["edge"]) s.edge = edge(e, join(p, "edge"));
+    if (const auto b = n["body"]) {
+      s.body = string(b, join(p, "body"));
+      if (std::none_of(m.bodies.begin(), m.bodies.end(),
+                       [&](const model::Body& x) { return x.name == s.body; }))
+        fail(b, join(p, "body"), "no body named \"" + s.body + "\"");
+    }
     if (const auto c = n["control_points"]) {
       const std::string ck = join(p, "control_points");
       if (!c.IsSequence() || c.size() == 0) fail(c, ck, "expected a list of control-point indices");

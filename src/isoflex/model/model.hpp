@@ -282,6 +282,8 @@ struct KLSupport {
   std::array<bool, 3> components = {true, true, true};
   Vec3 normal = Vec3::Zero();                              // symmetry
   std::array<std::string, 3> displacement{"0", "0", "0"};  // time functions
+  // Dynamic runs: the body the supported control points are attached to (empty: the ground).
+  std::string body;
   Source source;
 };
 

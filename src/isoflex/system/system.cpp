@@ -10,6 +10,7 @@
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/joints/director_joints.hpp"
+#include "isoflex/joints/point_joints.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
@@ -381,6 +382,7 @@ System System::compile(const model::Model& model) {
     std::string name;
     std::shared_ptr<const joints::Joint> joint;
     model::Source source;
+    std::string type = "shell_support";
   };
   std::vector<Support> supports;
   {
@@ -437,6 +439,38 @@ System System::compile(const model::Model& model) {
       edges.push_back({-1, p.node});
     }
   }
+  // Kirchhoff–Love supports: the control points of the supported rows (fixed: the edge or the
+  // listed points; clamped: rows 0 and 1, which carry the slope across the edge) rigidly attached
+  // to a body or the ground (joints/point_joints.hpp). Attaching row 1 also holds the stretch
+  // across a clamped edge, unlike the static clamp (docs/theory/kl-static.md §2).
+  for (std::size_t k = 0; k < model.kl_supports.size(); ++k) {
+    const auto& S = model.kl_supports[k];
+    const std::string what = fmt::format("kl_supports[{}]", k);
+    using K = model::KLSupportKind;
+    if (!(S.components[0] && S.components[1] && S.components[2]) ||
+        (S.kind != K::fixed && S.kind != K::clamped))
+      fail(S.source, what,
+           "in a dynamic run a Kirchhoff–Love support holds all components, fixed or clamped, to "
+           "the ground or a body; symmetry, prescribed displacements and single components act "
+           "in static analyses only for now (solver.analysis: static)");
+    const KLPatchInstance& P = s.kl_patches_.front();  // the reader checked the shell's name
+    const geometry::NurbsSurface& g = P.element->patch().reference();
+    std::vector<int> cps = S.control_points;
+    if (!S.edge.empty())
+      for (int r = 0; r < (S.kind == K::clamped ? 2 : 1); ++r)
+        for (int cp : loads::edge_control_points(g, loads::patch_edge_from_string(S.edge), r))
+          cps.push_back(cp);
+    const int parent = S.body.empty() ? -1 : find_body(S.body, S.source, what + ".body");
+    for (int cp : cps) {
+      const int node = P.nodes[cp];
+      supports.push_back(
+          {fmt::format("{}:{}", what, s.node_names_[node]),
+           std::make_shared<joints::PointOnFrame>(fn::Q(s.node_q(s.q0_, parent)),
+                                                  Vec3(s.q0_.segment<3>(s.q_offset(node)))),
+           S.source, "kl_support"});
+      edges.push_back({parent, node});
+    }
+  }
   const std::size_t n_model_joints = model.joints.size();
   std::vector<int> tree_parent_side(edges.size(), 0);  // 0 not in tree, +1 a→b, −1 b→a
   std::vector<bool> reached(N, false);
@@ -453,7 +487,7 @@ System System::compile(const model::Model& model) {
           reached[b] = true;
           order.push_back(static_cast<int>(j));
           frontier.push_back(b);
-        } else if (b == u && a >= 0 && !reached[a] &&
+        } else if (b == u && a >= 0 && !reached[a] && j < n_model_joints &&
                    model.joints[j].type != model::JointType::point_on_line) {
           tree_parent_side[j] = -1;
           reached[a] = true;
@@ -481,12 +515,27 @@ System System::compile(const model::Model& model) {
     const int child = rev ? edges[j].a : edges[j].b;
     const std::string name = J.name.empty() ? what : J.name;
     const bool tree = tree_parent_side[j] != 0;
-    for (int node : {parent, child})
-      if (node >= 0 && s.node_kind(node) != NodeKind::frame &&
-          s.node_kind(node) != NodeKind::director)
-        fail(J.source, what,
-             fmt::format("'{}' is a {} node: joints join frame and director nodes only",
-                         s.node_names_[node], s.node_type(node).name()));
+    if (parent >= 0 && s.node_kind(parent) == NodeKind::point)
+      fail(J.source, what,
+           fmt::format("'{}' would carry '{}': a point node (a control point) can only hang from "
+                       "a body, a beam node or the ground",
+                       s.node_names_[parent], s.node_names_[child]));
+    if (s.node_kind(child) == NodeKind::point) {
+      using T = model::JointType;
+      if (J.type != T::rigid && J.type != T::fixed && J.type != T::spherical)
+        fail(J.source, what + ".type",
+             fmt::format("'{}' is a control point: it is attached (rigid, fixed or spherical, "
+                         "which coincide for a point), not {}",
+                         s.node_names_[child], model::to_string(J.type)));
+      if (parent >= 0 && s.node_kind(parent) != NodeKind::frame)
+        fail(J.source, what, "a control point is attached to a body, a beam node or the ground");
+      auto joint = std::make_shared<joints::PointOnFrame>(
+          fn::Q(s.node_q(s.q0_, parent)), Vec3(s.q0_.segment<3>(s.q_offset(child))));
+      s.joints_.push_back({name, model::to_string(J.type), std::move(joint), nullptr, parent, child,
+                           tree, rev, row, -1});
+      row += 3;
+      continue;
+    }
     if ((parent >= 0 && s.node_kind(parent) == NodeKind::director) ||
         s.node_kind(child) == NodeKind::director) {
       auto joint = s.director_joint(J, parent, child, what);
@@ -545,7 +594,7 @@ System System::compile(const model::Model& model) {
   // Shell supports after the model joints: joints_ is indexed like edges.
   for (std::size_t j = n_model_joints; j < edges.size(); ++j) {
     const Support& S = supports[j - n_model_joints];
-    s.joints_.push_back({S.name, "shell_support", S.joint, nullptr, -1, edges[j].b,
+    s.joints_.push_back({S.name, S.type, S.joint, nullptr, edges[j].a, edges[j].b,
                          tree_parent_side[j] != 0, false, row, -1});
     row += S.joint->constraint_count();
   }
@@ -664,10 +713,6 @@ void System::add_kl_patches(const model::Model& m) {
   if (m.kl_shells.size() > 1)
     fail(m.kl_shells[1].source, "kl_shells[1]",
          "one Kirchhoff–Love patch per model for now (multipatch coupling is not built yet)");
-  if (!m.kl_supports.empty())
-    fail(m.kl_supports.front().source, "kl_supports",
-         "Kirchhoff–Love supports act in static analyses only for now (solver.analysis: static "
-         "or run --static); a moving patch is free");
   const model::KLShell& S = m.kl_shells.front();
   KLPatchInstance inst;
   inst.name = S.name;
