@@ -211,8 +211,30 @@ class System {
   SpMat twist_map(const VecX& q, const InputBlocks& in) const;
   // The global coordinates of the given nodes, stacked.
   std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
-  // Compile phases (system.cpp): each adds its part of the model.
-  void add_kl_patches(const model::Model& m);
+  // Compile phases (system_compile.cpp), in this order; Build carries what they pass on.
+  struct Build;
+  void add_bodies(Build& build);
+  void add_beams(Build& build);
+  void add_shells(Build& build);
+  void add_kl_patches(const model::Model& m);  // system.cpp
+  void finish_nodes(Build& build);
+  void assemble_mass();
+  void add_body_loads(Build& build);
+  void add_distributed_loads(Build& build);
+  void add_shell_loads(Build& build);
+  void add_probes(Build& build);
+  void add_joint_edges(Build& build);
+  void add_shell_supports(Build& build);
+  void add_kl_supports(Build& build);
+  void build_forest(Build& build);
+  std::shared_ptr<const joints::Joint> model_joint(const Build& build, std::size_t j, int parent,
+                                                   int child, bool rev) const;
+  std::shared_ptr<const joints::Joint> frame_joint(const Build& build, std::size_t j, int parent,
+                                                   int child, bool rev) const;
+  void add_joint_instances(Build& build);
+  void check_assembled(const Build& build) const;
+  void select_loop_rows();
+  void set_initial_velocities(const model::Model& model);
   ProbeInstance kl_probe(const model::Probe& p) const;
   void build_stiffness_pattern();
   // A joint with a shell node on either side (joints/director_joints.hpp).

@@ -1,0 +1,744 @@
+// System::compile (docs/architecture.md "How data flows"): a model becomes a system in phases,
+// each adding one part of the model; `Build` carries what the phases pass on (node names, the
+// joint graph, the supports).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <deque>
+#include <map>
+
+#include "isoflex/elements/beam_mesh.hpp"
+#include "isoflex/elements/rigid_body.hpp"
+#include "isoflex/joints/director_joints.hpp"
+#include "isoflex/joints/point_joints.hpp"
+#include "isoflex/loads/patch_edge.hpp"
+#include "isoflex/math/director_node.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::system {
+
+namespace fn = frame_node;
+namespace dn = director_node;
+
+struct System::Build {
+  const model::Model& model;
+  std::map<std::string, int> index;  // node by name: bodies, "<beam>[i]", "<shell>[i]"
+  struct Edge {
+    int a, b;  // nodes (−1: the ground) of a model joint's body_a, body_b, or a support's sides
+  };
+  std::vector<Edge> edges;  // model joints, then supports
+  struct Support {
+    std::string name;
+    std::shared_ptr<const joints::Joint> joint;
+    model::Source source;
+    std::string type = "shell_support";
+  };
+  std::vector<Support> supports;
+  std::vector<int> tree_parent_side;  // per edge: 0 not in the tree, +1 a → b, −1 b → a
+  std::vector<int> order;             // tree joints (edges) in BFS order
+
+  int find(const std::string& name, const model::Source& src, const std::string& what) const {
+    if (name == "ground") return -1;
+    const auto it = index.find(name);
+    if (it == index.end()) compile_fail(src, what, fmt::format("no body named '{}'", name));
+    return it->second;
+  }
+};
+
+namespace {
+
+[[noreturn]] void fail(const model::Source& s, const std::string& what, const std::string& msg) {
+  compile_fail(s, what, msg);
+}
+
+joints::Kind kind_of(model::JointType t) {
+  using T = model::JointType;
+  using K = joints::Kind;
+  switch (t) {
+    case T::spherical:
+      return K::spherical;
+    case T::revolute:
+      return K::revolute;
+    case T::prismatic:
+      return K::prismatic;
+    case T::cylindrical:
+      return K::cylindrical;
+    case T::planar:
+      return K::planar;
+    case T::universal:
+      return K::universal;
+    case T::rigid:
+    case T::fixed:
+      return K::rigid;
+    case T::point_on_line:
+      return K::point_on_line;
+  }
+  return K::rigid;
+}
+
+// A right-handed frame with third column e₃.
+Mat3 frame_about(const Vec3& e3) {
+  const Vec3 n = e3.normalized();
+  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 e1 = (a - a.dot(n) * n).normalized();
+  Mat3 E;
+  E << e1, n.cross(e1), n;
+  return E;
+}
+
+}  // namespace
+
+System System::compile(const model::Model& model) {
+  System s;
+  Build build{model, {}, {}, {}, {}, {}};
+  s.ground_ = fn::make(Vec3::Zero(), Mat3::Identity());
+  // Nodes: the bodies in model order, the nodes of each beam along its polyline, the shells'
+  // director nodes, the control points of the Kirchhoff–Love patches.
+  s.add_bodies(build);
+  s.add_beams(build);
+  s.add_shells(build);
+  s.add_kl_patches(model);
+  s.finish_nodes(build);
+  s.assemble_mass();
+  s.add_body_loads(build);
+  s.add_distributed_loads(build);
+  s.add_shell_loads(build);
+  s.add_probes(build);
+  // Joints and supports, the spanning forest, the rows.
+  s.add_joint_edges(build);
+  s.add_shell_supports(build);
+  s.add_kl_supports(build);
+  s.build_forest(build);
+  s.add_joint_instances(build);
+  s.check_assembled(build);
+  s.select_loop_rows();
+  s.set_initial_velocities(model);
+  s.build_stiffness_pattern();
+  return s;
+}
+
+// Bodies: frame nodes in model order (node i is body i) with their RigidBody elements.
+void System::add_bodies(Build& build) {
+  const model::Model& model = build.model;
+  for (int i = 0; i < static_cast<int>(model.bodies.size()); ++i) {
+    const auto& b = model.bodies[i];
+    build.index[b.name] = i;
+    add_node(NodeKind::frame, fn::make(b.position, b.orientation), b.name, -1);
+    elements_.push_back(std::make_unique<elements::RigidBody>(i, b.mass, b.inertia, model.gravity));
+  }
+}
+
+// Beams: frame nodes along each polyline, BeamElements between them.
+void System::add_beams(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t bi = 0; bi < model.beams.size(); ++bi) {
+    const auto& B = model.beams[bi];
+    const int next = node_count();
+    const std::string what = fmt::format("beams[{}]", bi);
+    BeamInstance inst{B.name, {}, {}};
+    std::vector<fn::Q> q;
+    try {
+      for (std::size_t seg = 0; seg + 1 < B.points.size(); ++seg) {
+        const auto part =
+            elements::straight_beam_nodes(B.points[seg], B.points[seg + 1], B.d1, B.elements[seg]);
+        // A vertex shared by two segments keeps the triad of the segment before it; the
+        // reference strains of the next element absorb the kink.
+        q.insert(q.end(), part.begin() + (seg == 0 ? 0 : 1), part.end());
+      }
+    } catch (const std::exception& e) {
+      fail(B.source, what, e.what());
+    }
+    for (std::size_t k = 0; k < q.size(); ++k) {
+      const std::string name = fmt::format("{}[{}]", B.name, k);
+      build.index[name] = next + static_cast<int>(k);
+      add_node(NodeKind::frame, q[k], name, static_cast<int>(bi));
+      inst.nodes.push_back(next + static_cast<int>(k));
+    }
+    const model::BeamSection& c = B.section;
+    const elements::BeamSection section{c.EA, c.GA1,   c.GA2,    c.EI1,   c.EI2,
+                                        c.GJ, c.A_rho, c.M_rho1, c.M_rho2};
+    for (std::size_t k = 0; k + 1 < q.size(); ++k) {
+      const int a = next + static_cast<int>(k);
+      try {
+        elements_.push_back(std::make_unique<elements::BeamElement>(a, a + 1, q[k], q[k + 1],
+                                                                    section, model.gravity));
+      } catch (const std::exception& e) {
+        fail(B.source, fmt::format("{}.section", what), e.what());
+      }
+      inst.elements.push_back(static_cast<const elements::BeamElement*>(elements_.back().get()));
+    }
+    beams_.push_back(std::move(inst));
+  }
+}
+
+// Shells: director nodes (40) "<shell>[i]" and bilinear director-shell elements.
+void System::add_shells(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t si = 0; si < model.shells.size(); ++si) {
+    const auto& S = model.shells[si];
+    const int next = node_count();
+    const std::string what = fmt::format("shells[{}]", si);
+    ShellInstance inst{S.name, {}, {}};
+    for (int k = 0; k < S.node_count(); ++k) {
+      const std::string name = fmt::format("{}[{}]", S.name, k);
+      build.index[name] = next + k;
+      dn::Q q;
+      q << S.points[k], S.directors[k];
+      add_node(NodeKind::director, q, name, static_cast<int>(model.beams.size() + si));
+      inst.nodes.push_back(next + k);
+    }
+    const elements::ShellMaterial mat{S.material.E, S.material.nu, S.material.thickness,
+                                      S.material.density, S.material.shear_correction};
+    for (std::size_t e = 0; e < S.quads.size(); ++e) {
+      std::array<int, 4> nodes;
+      Vec<24> q0;
+      for (int a = 0; a < 4; ++a) {
+        nodes[a] = next + S.quads[e][a];
+        q0.segment<6>(6 * a) << S.points[S.quads[e][a]], S.directors[S.quads[e][a]];
+      }
+      try {
+        elements_.push_back(
+            std::make_unique<elements::DirectorShellElement>(nodes, q0, mat, model.gravity));
+      } catch (const std::exception& ex) {
+        fail(S.source, fmt::format("{} element {}", what, e), ex.what());
+      }
+      inst.elements.push_back(
+          static_cast<const elements::DirectorShellElement*>(elements_.back().get()));
+    }
+    shells_.push_back(std::move(inst));
+  }
+}
+
+// After the last node: q₀ as one vector, the control points findable by name.
+void System::finish_nodes(Build& build) {
+  for (const KLPatchInstance& k : kl_patches_)
+    for (int node : k.nodes) build.index[node_names_[node]] = node;
+  q0_ = Eigen::Map<const VecX>(q0_build_.data(), static_cast<Eigen::Index>(q0_build_.size()));
+  q0_build_ = {};
+}
+
+// The constant mass matrix from the elements' sparse masses.
+void System::assemble_mass() {
+  Triplets t;
+  for (const auto& e : elements_) {
+    const std::vector<int> c = coordinates_of(e->nodes());
+    const SpMat Me = e->sparse_mass();
+    for (int j = 0; j < Me.outerSize(); ++j)
+      for (SpMat::InnerIterator it(Me, j); it; ++it)
+        t.emplace_back(c[it.row()], c[it.col()], it.value());
+  }
+  M_.resize(n(), n());
+  M_.setFromTriplets(t.begin(), t.end());
+}
+
+// Loads on bodies and beam nodes (loads/body_load.hpp).
+void System::add_body_loads(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t l = 0; l < model.loads.size(); ++l) {
+    const auto& L = model.loads[l];
+    const std::string what = fmt::format("loads[{}]", l);
+    const int node = build.find(L.body, L.source, what + ".body");
+    if (node < 0) fail(L.source, what + ".body", "a load cannot act on the ground");
+    if (node_kind(node) != NodeKind::frame)
+      fail(L.source, what + ".body",
+           fmt::format("'{}' is a shell node: load shells with shell_loads", L.body));
+    const Vec3 X = body_coordinates(node, L.point, L.point_local);
+    auto compile3 = [&](const std::optional<std::array<std::string, 3>>& e, const char* key) {
+      std::optional<std::array<loads::TimeFunction, 3>> f;
+      if (!e) return f;
+      try {
+        f = std::array<loads::TimeFunction, 3>{loads::TimeFunction((*e)[0]),
+                                               loads::TimeFunction((*e)[1]),
+                                               loads::TimeFunction((*e)[2])};
+      } catch (const std::exception& ex) {
+        fail(L.source, what + "." + key, ex.what());
+      }
+      return f;
+    };
+    loads_.emplace_back(node, X, compile3(L.force, "force"), compile3(L.moment, "moment"));
+  }
+}
+
+// Distributed dead loads per length: consistent nodal forces of the linear shape functions,
+// ∫ N_a f ds = f L/2 per element end (f constant along the element).
+void System::add_distributed_loads(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t l = 0; l < model.distributed_loads.size(); ++l) {
+    const auto& D = model.distributed_loads[l];
+    const std::string what = fmt::format("distributed_loads[{}]", l);
+    const auto beam = std::find_if(beams_.begin(), beams_.end(),
+                                   [&](const BeamInstance& b) { return b.name == D.beam; });
+    if (beam == beams_.end()) fail(D.source, what + ".beam", "no beam named '" + D.beam + "'");
+    std::vector<double> w(beam->nodes.size(), 0.0);
+    for (std::size_t e = 0; e < beam->elements.size(); ++e) {
+      w[e] += 0.5 * beam->elements[e]->reference_length();
+      w[e + 1] += 0.5 * beam->elements[e]->reference_length();
+    }
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      std::array<loads::TimeFunction, 3> f;
+      try {
+        for (int c = 0; c < 3; ++c)
+          f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", D.force_per_length[c], w[k]));
+      } catch (const std::exception& ex) {
+        fail(D.source, what + ".force_per_length", ex.what());
+      }
+      loads_.emplace_back(beam->nodes[k], Vec3::Zero(), f, std::nullopt);
+    }
+  }
+}
+
+// Shell loads: nodal forces and moments, edge loads lumped by the linear shape functions
+// (½ of each edge segment to its end nodes), area loads by the consistent nodal weights
+// ∫ N_a dA and ∫ N_a N dA of the elements (all dead loads).
+void System::add_shell_loads(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t l = 0; l < model.shell_loads.size(); ++l) {
+    const auto& L = model.shell_loads[l];
+    const std::string what = fmt::format("shell_loads[{}]", l);
+    const auto shell = std::find_if(shells_.begin(), shells_.end(),
+                                    [&](const ShellInstance& x) { return x.name == L.shell; });
+    if (shell == shells_.end()) fail(L.source, what + ".shell", "no shell named " + L.shell);
+    // Nodal vectors per shell node: weight × expression.
+    std::vector<Vec3> area(shell->nodes.size(), Vec3::Zero());
+    std::vector<double> weight(shell->nodes.size(), 0.0);
+    auto scaled = [&](const std::array<std::string, 3>& e, const Vec3& w) {
+      std::array<loads::TimeFunction, 3> f;
+      try {
+        for (int c = 0; c < 3; ++c)
+          f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", e[c], w(c)));
+      } catch (const std::exception& ex) {
+        fail(L.source, what, ex.what());
+      }
+      return f;
+    };
+    const int first = shell->nodes.front();
+    if (L.pressure || L.area_force) {
+      for (const auto* e : shell->elements) {
+        const Vec<4> a = e->nodal_areas();
+        const Mat<3, 4> na = e->nodal_normal_areas();
+        for (int k = 0; k < 4; ++k) {
+          weight[e->nodes()[k] - first] += a(k);
+          area[e->nodes()[k] - first] += na.col(k);
+        }
+      }
+      for (std::size_t k = 0; k < shell->nodes.size(); ++k) {
+        if (weight[k] == 0.0) continue;
+        std::optional<std::array<loads::TimeFunction, 3>> f;
+        if (L.pressure) {
+          f = scaled({*L.pressure, *L.pressure, *L.pressure}, area[k]);
+        } else {
+          f = scaled(*L.area_force, Vec3::Constant(weight[k]));
+        }
+        director_loads_.emplace_back(shell->nodes[k], f, std::nullopt);
+      }
+      continue;
+    }
+    std::vector<double> w(L.nodes.size(), 1.0);
+    if (L.per_length) {
+      std::fill(w.begin(), w.end(), 0.0);
+      for (std::size_t k = 0; k + 1 < L.nodes.size(); ++k) {
+        const double len = (q0_.segment<3>(q_offset(first + L.nodes[k + 1])) -
+                            q0_.segment<3>(q_offset(first + L.nodes[k])))
+                               .norm();
+        w[k] += 0.5 * len;
+        w[k + 1] += 0.5 * len;
+      }
+    }
+    for (std::size_t k = 0; k < L.nodes.size(); ++k) {
+      std::optional<std::array<loads::TimeFunction, 3>> f, m;
+      if (L.force) f = scaled(*L.force, Vec3::Constant(w[k]));
+      if (L.moment) m = scaled(*L.moment, Vec3::Constant(w[k]));
+      director_loads_.emplace_back(first + L.nodes[k], f, m);
+    }
+  }
+}
+
+// Probes: material points of bodies, beam and shell nodes, or KL patches.
+void System::add_probes(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t p = 0; p < model.probes.size(); ++p) {
+    const auto& P = model.probes[p];
+    if (!P.kl_shell.empty()) {
+      probes_.push_back(kl_probe(P));
+      continue;
+    }
+    const int node = build.find(P.body, P.source, fmt::format("probes[{}].body", p));
+    if (node < 0) fail(P.source, fmt::format("probes[{}].body", p), "a probe needs a body");
+    // A shell node's probe follows the node's mid-surface point (NodeType::local_coordinates).
+    probes_.push_back({P.name, node, body_coordinates(node, P.point, P.point_local), {}});
+  }
+}
+
+// Joint graph and spanning forest rooted at the ground (breadth first, so chains hang from the
+// ground by their shortest paths). A joint reached from its body_b side is built with the roles
+// swapped; its constraint set is equivalent (frames coincide at t = 0). A point-on-line joint
+// is not symmetric (the line belongs to body_a), so it is never used reversed in the tree.
+void System::add_joint_edges(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const auto& J = model.joints[j];
+    const std::string what = fmt::format("joints[{}]", j);
+    const int a = build.find(J.body_a, J.source, what + ".body_a");
+    const int b = build.find(J.body_b, J.source, what + ".body_b");
+    if (b < 0) fail(J.source, what + ".body_b", "body_b cannot be the ground");
+    if (a == b) fail(J.source, what, "a joint needs two different bodies");
+    if (J.type == model::JointType::fixed && a >= 0)
+      fail(J.source, what + ".body_a", "a fixed support joins a body to the ground");
+    build.edges.push_back({a, b});
+  }
+}
+
+// Shell supports: one joint from the ground per supported node (joints/director_joints.hpp).
+// Entries naming the same node are merged (a corner on two symmetry planes): fixed components
+// add up; two different symmetry normals leave the director no freedom but drilling.
+void System::add_shell_supports(Build& build) {
+  const model::Model& model = build.model;
+  {
+    using C = joints::DirectorCondition;
+    struct Pending {
+      int node;
+      joints::DirectorSupportSpec spec;
+      std::string what;
+      model::Source source;
+    };
+    std::vector<Pending> pending;
+    std::map<int, std::size_t> at;
+    for (std::size_t k = 0; k < model.shell_supports.size(); ++k) {
+      const auto& S = model.shell_supports[k];
+      const auto shell = std::find_if(shells_.begin(), shells_.end(),
+                                      [&](const ShellInstance& x) { return x.name == S.shell; });
+      const std::string what = fmt::format("shell_supports[{}]", k);
+      if (shell == shells_.end()) fail(S.source, what + ".shell", "no shell named " + S.shell);
+      joints::DirectorSupportSpec spec;
+      spec.fix_translation = S.fixed_translation;
+      spec.director = S.director == model::DirectorSupport::free    ? C::free
+                      : S.director == model::DirectorSupport::fixed ? C::fixed
+                                                                    : C::about_axis;
+      spec.axis = S.axis;
+      for (int i : S.nodes) {
+        const int node = shell->nodes[i];
+        const auto [it, fresh] = at.emplace(node, pending.size());
+        if (fresh) {
+          pending.push_back({node, spec, what, S.source});
+          continue;
+        }
+        joints::DirectorSupportSpec& m = pending[it->second].spec;
+        for (int c = 0; c < 3; ++c)
+          m.fix_translation[c] = m.fix_translation[c] || spec.fix_translation[c];
+        if (spec.director == C::fixed || m.director == C::fixed) {
+          m.director = C::fixed;
+        } else if (spec.director == C::about_axis) {
+          if (m.director == C::free)
+            m = {m.fix_translation, C::about_axis, spec.axis};
+          else if (std::abs(std::abs(m.axis.normalized().dot(spec.axis.normalized())) - 1) > 1e-12)
+            m.director = C::fixed;
+        }
+      }
+    }
+    for (const Pending& p : pending) {
+      try {
+        build.supports.push_back({fmt::format("{}:{}", p.what, node_names_[p.node]),
+                                  std::make_shared<joints::DirectorSupport>(
+                                      dn::Q(q0_.segment<6>(q_offset(p.node))), p.spec),
+                                  p.source});
+      } catch (const std::exception& e) {
+        fail(p.source, p.what, fmt::format("node {}: {}", node_names_[p.node], e.what()));
+      }
+      build.edges.push_back({-1, p.node});
+    }
+  }
+}
+
+// Kirchhoff–Love supports: the control points of the supported rows (fixed: the edge or the
+// listed points; clamped: rows 0 and 1, which carry the slope across the edge) rigidly attached
+// to a body or the ground (joints/point_joints.hpp). Attaching row 1 also holds the stretch
+// across a clamped edge, unlike the static clamp (docs/theory/kl-static.md §2).
+void System::add_kl_supports(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t k = 0; k < model.kl_supports.size(); ++k) {
+    const auto& S = model.kl_supports[k];
+    const std::string what = fmt::format("kl_supports[{}]", k);
+    using K = model::KLSupportKind;
+    if (!(S.components[0] && S.components[1] && S.components[2]) ||
+        (S.kind != K::fixed && S.kind != K::clamped))
+      fail(S.source, what,
+           "in a dynamic run a Kirchhoff–Love support holds all components, fixed or clamped, to "
+           "the ground or a body; symmetry, prescribed displacements and single components act "
+           "in static analyses only for now (solver.analysis: static)");
+    const KLPatchInstance& P = kl_patches_.front();  // the reader checked the shell's name
+    const geometry::NurbsSurface& g = P.element->patch().reference();
+    std::vector<int> cps = S.control_points;
+    if (!S.edge.empty())
+      for (int r = 0; r < (S.kind == K::clamped ? 2 : 1); ++r)
+        for (int cp : loads::edge_control_points(g, loads::patch_edge_from_string(S.edge), r))
+          cps.push_back(cp);
+    const int parent = S.body.empty() ? -1 : build.find(S.body, S.source, what + ".body");
+    for (int cp : cps) {
+      const int node = P.nodes[cp];
+      build.supports.push_back(
+          {fmt::format("{}:{}", what, node_names_[node]),
+           std::make_shared<joints::PointOnFrame>(fn::Q(node_q(q0_, parent)),
+                                                  Vec3(q0_.segment<3>(q_offset(node)))),
+           S.source, "kl_support"});
+      build.edges.push_back({parent, node});
+    }
+  }
+}
+
+// The spanning forest: breadth first from the ground, then from each node not yet reached (a
+// root, free). Sets tree_parent_side and the tree joints in BFS order.
+void System::build_forest(Build& build) {
+  const model::Model& model = build.model;
+  const std::size_t n_model_joints = model.joints.size();
+  build.tree_parent_side.assign(build.edges.size(), 0);
+  std::vector<bool> reached(node_count(), false);
+  auto grow = [&](std::deque<int> frontier) {
+    while (!frontier.empty()) {
+      const int u = frontier.front();
+      frontier.pop_front();
+      for (std::size_t j = 0; j < build.edges.size(); ++j) {
+        if (build.tree_parent_side[j] != 0) continue;
+        const auto [a, b] = build.edges[j];
+        if (a == u && !reached[b]) {
+          build.tree_parent_side[j] = 1;
+          reached[b] = true;
+          build.order.push_back(static_cast<int>(j));
+          frontier.push_back(b);
+        } else if (b == u && a >= 0 && !reached[a] && j < n_model_joints &&
+                   model.joints[j].type != model::JointType::point_on_line) {
+          build.tree_parent_side[j] = -1;
+          reached[a] = true;
+          build.order.push_back(static_cast<int>(j));
+          frontier.push_back(a);
+        }
+      }
+    }
+  };
+  grow({-1});
+  for (int i = 0; i < node_count(); ++i) {
+    if (reached[i]) continue;
+    reached[i] = true;
+    roots_.push_back(i);
+    grow({i});
+  }
+}
+
+// A joint between two frame nodes (or a frame node and the ground) from its model entry: the
+// joint point and axes at t = 0 from the entry (global or in body a/b coordinates), the frame E
+// built about the axis.
+std::shared_ptr<const joints::Joint> System::frame_joint(const Build& build, std::size_t j,
+                                                         int parent, int child, bool rev) const {
+  const model::Joint& J = build.model.joints[j];
+  const std::string what = fmt::format("joints[{}]", j);
+  const fn::Q qa0 = node_q(q0_, parent), qb0 = node_q(q0_, child);
+  // Body a and b of the model entry (not parent/child) at t = 0; the ground frame for ground.
+  const fn::Q qA = node_q(q0_, build.edges[j].a), qB = node_q(q0_, build.edges[j].b);
+  const Mat3 RA = fn::directors(qA), RB = fn::directors(qB);
+  Vec3 p = fn::phi(qB);
+  if (J.point)
+    p = *J.point;
+  else if (J.point_a)
+    p = fn::phi(qA) + RA * *J.point_a;
+  else if (J.point_b)
+    p = fn::phi(qB) + RB * *J.point_b;
+  const std::optional<Vec3> axis = J.axis_a ? std::optional<Vec3>(RA * *J.axis_a) : J.axis;
+  const std::optional<Vec3> axis2 = J.axis2_b ? std::optional<Vec3>(RB * *J.axis2_b) : J.axis2;
+  Mat3 E = Mat3::Identity();
+  using T = model::JointType;
+  switch (J.type) {
+    case T::revolute:
+    case T::prismatic:
+    case T::cylindrical:
+    case T::planar:
+    case T::point_on_line:
+      if (!axis || !(axis->norm() > 0))
+        fail(J.source, what + ".axis", "a nonzero axis is required");
+      E = frame_about(*axis);
+      break;
+    case T::universal: {
+      if (!axis || !axis2) fail(J.source, what, "a universal joint needs axis and axis2");
+      Vec3 e1 = axis->normalized(), e2 = axis2->normalized();
+      if (std::abs(e1.dot(e2)) > 1e-9)
+        fail(J.source, what + ".axis2",
+             fmt::format("axis2 must be perpendicular to axis at t = 0 (cosine {:.3g})",
+                         e1.dot(e2)));
+      if (rev) std::swap(e1, e2);  // the parent's own axis is the first frame axis
+      E << e1, e2, e1.cross(e2);
+      break;
+    }
+    default:
+      break;
+  }
+  return std::make_shared<const joints::FrameJoint>(kind_of(J.type),
+                                                    joints::geometry_from_global(qa0, qb0, p, E));
+}
+
+// The joint of model entry j between parent and child (the roles the spanning forest gave them):
+// a control point attached to a frame node, a joint with a director node, or a frame joint.
+std::shared_ptr<const joints::Joint> System::model_joint(const Build& build, std::size_t j,
+                                                         int parent, int child, bool rev) const {
+  const model::Joint& J = build.model.joints[j];
+  const std::string what = fmt::format("joints[{}]", j);
+  if (parent >= 0 && node_kind(parent) == NodeKind::point)
+    fail(J.source, what,
+         fmt::format("'{}' would carry '{}': a point node (a control point) can only hang from "
+                     "a body, a beam node or the ground",
+                     node_names_[parent], node_names_[child]));
+  if (node_kind(child) == NodeKind::point) {
+    using T = model::JointType;
+    if (J.type != T::rigid && J.type != T::fixed && J.type != T::spherical)
+      fail(J.source, what + ".type",
+           fmt::format("'{}' is a control point: it is attached (rigid, fixed or spherical, "
+                       "which coincide for a point), not {}",
+                       node_names_[child], model::to_string(J.type)));
+    if (parent >= 0 && node_kind(parent) != NodeKind::frame)
+      fail(J.source, what, "a control point is attached to a body, a beam node or the ground");
+    return std::make_shared<joints::PointOnFrame>(fn::Q(node_q(q0_, parent)),
+                                                  Vec3(q0_.segment<3>(q_offset(child))));
+  }
+  if ((parent >= 0 && node_kind(parent) == NodeKind::director) ||
+      node_kind(child) == NodeKind::director) {
+    return director_joint(J, parent, child, what);
+  }
+  return frame_joint(build, j, parent, child, rev);
+}
+
+// Joint instances in model order, then the supports (joints_ is indexed like build.edges), their
+// rows, and the layout of ν: the roots' free velocities, then τ of the tree joints in BFS order.
+void System::add_joint_instances(Build& build) {
+  const model::Model& model = build.model;
+  const std::size_t n_model_joints = model.joints.size();
+  int row = internal_rows_;
+  for (std::size_t j = 0; j < n_model_joints; ++j) {
+    const auto& J = model.joints[j];
+    const std::string what = fmt::format("joints[{}]", j);
+    const bool rev = build.tree_parent_side[j] == -1;
+    const int parent = rev ? build.edges[j].b : build.edges[j].a;
+    const int child = rev ? build.edges[j].a : build.edges[j].b;
+    auto joint = model_joint(build, j, parent, child, rev);
+    const auto* frame = dynamic_cast<const joints::FrameJoint*>(joint.get());
+    const int m = joint->constraint_count();
+    joints_.push_back({J.name.empty() ? what : J.name, model::to_string(J.type), std::move(joint),
+                       frame, parent, child, build.tree_parent_side[j] != 0, rev, row, -1});
+    row += m;
+  }
+  // Shell supports after the model joints: joints_ is indexed like build.edges.
+  for (std::size_t j = n_model_joints; j < build.edges.size(); ++j) {
+    const Build::Support& S = build.supports[j - n_model_joints];
+    joints_.push_back({S.name, S.type, S.joint, nullptr, build.edges[j].a, build.edges[j].b,
+                       build.tree_parent_side[j] != 0, false, row, -1});
+    row += S.joint->constraint_count();
+  }
+  m_all_ = row;
+  int nu = 0;
+  for (int root : roots_) {
+    root_nu_offset_.push_back(nu);
+    root_width_.push_back(node_type(root).free_velocities());
+    nu += root_width_.back();
+  }
+  for (int j : build.order) {
+    joints_[j].nu_offset = nu;
+    nu += joints_[j].joint->freedom_count();
+  }
+  tree_order_ = build.order;
+  k_ = nu;
+}
+
+// Every joint holds at t = 0 (the frames are built to coincide; the points of sliding joints and
+// the parent side of a joint given by point_b must lie where stated).
+void System::check_assembled(const Build& build) const {
+  const model::Model& model = build.model;
+  const std::size_t n_model_joints = model.joints.size();
+  const VecX c = constraints(q0_);
+  for (const auto& J : joints_) {
+    const double v = c.segment(J.row_offset, J.joint->constraint_count()).cwiseAbs().maxCoeff();
+    if (v <= 1e-9) continue;
+    const std::size_t j = static_cast<std::size_t>(&J - joints_.data());
+    const bool support = j >= n_model_joints;
+    fail(support ? build.supports[j - n_model_joints].source : model.joints[j].source,
+         support ? build.supports[j - n_model_joints].name : fmt::format("joints[{}]", j),
+         fmt::format("not assembled at t = 0 (|Φ| = {:.3g})", v));
+  }
+}
+
+// Loop-closing rows: independent ones by full-pivot LU of G_cut P_tree (IGA-thesis Alg. 5.1,
+// Rem. 5.5); the rest are redundant and dropped. Cross-checked by pivoted QR.
+void System::select_loop_rows() {
+  std::vector<int> cut_all;
+  for (const auto& J : joints_)
+    if (!J.tree)
+      for (int i = 0; i < J.joint->constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
+  for (int i = 0; i < internal_rows_; ++i) selected_rows_.push_back(i);
+  for (const auto& J : joints_)
+    if (J.tree)
+      for (int i = 0; i < J.joint->constraint_count(); ++i)
+        selected_rows_.push_back(J.row_offset + i);
+  if (!cut_all.empty()) {
+    const MatX Gc = MatX(jacobian_rows(q0_, cut_all) * tree_null_space(q0_));
+    const auto keep = solve::independent_rows_lu(Gc);
+    cut_rank_qr_ = static_cast<int>(solve::independent_rows_qr(Gc).size());
+    std::vector<bool> kept(cut_all.size(), false);
+    for (int i : keep) kept[i] = true;
+    for (std::size_t i = 0; i < cut_all.size(); ++i) {
+      if (kept[i]) {
+        cut_rows_.push_back(cut_all[i]);
+        selected_rows_.push_back(cut_all[i]);
+      } else {
+        redundant_rows_.push_back(cut_all[i]);
+      }
+    }
+  }
+}
+
+// Initial velocities: the admissible twist closest (least squares in twist components) to the
+// given body velocities, within the null space of the loop-closing rows.
+void System::set_initial_velocities(const model::Model& model) {
+  VecX t_given = VecX::Zero(6 * node_count());  // beam and shell nodes start at rest
+  for (int i = 0; i < static_cast<int>(model.bodies.size()); ++i) {
+    t_given.segment<3>(6 * i) = model.bodies[i].velocity;
+    t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
+  }
+  VecX nu0 = VecX::Zero(k_);
+  if (t_given.norm() > 0) {
+    if (cut_rows_.empty()) {
+      // min ½‖w − t‖² subject to (I − 𝒜) w = ℬ ν, as the sparse KKT system
+      // [I (I−𝒜)ᵀ 0; (I−𝒜) 0 −ℬ; 0 −ℬᵀ 0] [w; μ; ν] = [t; 0; 0] (linear in node_count()).
+      SpMat L, B, Pint;
+      tree_factors(q0_, L, B, Pint);
+      const int N6 = 6 * node_count();
+      Triplets t;
+      for (int i = 0; i < N6; ++i) t.emplace_back(i, i, 1.0);
+      auto put = [&](const SpMat& A, int r0, int c0, double f) {
+        for (int c = 0; c < A.outerSize(); ++c)
+          for (SpMat::InnerIterator it(A, c); it; ++it)
+            t.emplace_back(r0 + it.row(), c0 + it.col(), f * it.value());
+      };
+      put(SpMat(L.transpose()), 0, N6, 1.0);
+      put(L, N6, 0, 1.0);
+      put(B, N6, 2 * N6, -1.0);
+      put(SpMat(B.transpose()), 2 * N6, N6, -1.0);
+      SpMat K(2 * N6 + k_, 2 * N6 + k_);
+      K.setFromTriplets(t.begin(), t.end());
+      VecX rhs = VecX::Zero(K.rows());
+      rhs.head(N6) = t_given;
+      const VecX z = solve::solve(K, rhs);
+      nu0 = z.tail(k_);
+      v0_error_ = (z.head(N6) - t_given).norm() / std::max(1.0, t_given.norm());
+    } else {
+      const MatX E = MatX(twist_map(q0_));
+      MatX W, U;
+      solve::qr_range_and_null_space(MatX(jacobian_rows(q0_, cut_rows_) * tree_null_space(q0_)), W,
+                                     U);
+      nu0 = U * solve::least_squares(E * U, t_given);
+      v0_error_ = (E * nu0 - t_given).norm() / std::max(1.0, t_given.norm());
+    }
+  }
+  {
+    SpMat L, B, Pint;
+    tree_factors(q0_, L, B, Pint);
+    v0_ = Pint * solve::solve(L, B * nu0);
+  }
+}
+
+}  // namespace isoflex::system
