@@ -10,17 +10,12 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/trajectory.hpp"
 
 using namespace isoflex;
 using F = model::Formulation;
 
 namespace {
-
-struct PlateRun {
-  std::vector<double> t, energy;
-  std::vector<Vec3> p, L, corner;
-  int unknowns = 0;
-};
 
 model::Model plate(double t_end, double dt) {
   model::Model m =
@@ -30,40 +25,21 @@ model::Model plate(double t_end, double dt) {
   return m;
 }
 
-PlateRun simulate(const model::Model& m, F f) {
-  model::Model mf = m;
-  mf.solver.formulation = f;
-  const auto sys = system::System::compile(mf);
-  const integrate::EnergyMomentumIntegrator integ(sys, mf.solver);
-  auto s = integ.initial_state();
-  PlateRun r;
-  r.unknowns = integ.unknowns();
-  const int steps = static_cast<int>(std::lround(mf.solver.t_end / mf.solver.dt));
-  for (int i = 0; i <= steps; ++i) {
-    const auto st = i == 0 ? integrate::StepStats{} : integ.step(s);
-    const auto snap = integ.snapshot(s, st, {});
-    r.t.push_back(snap.t);
-    r.energy.push_back(snap.total_energy);
-    r.p.push_back(snap.linear_momentum);
-    r.L.push_back(snap.angular_momentum);
-    for (const auto& pr : snap.probes)
-      if (pr.name == "corner") r.corner.push_back(pr.position);
-  }
-  return r;
-}
-
 // Largest change after the pulse (t ≥ 0.2), relative to the value's size at t = 0.2.
 struct Drift {
   double energy = 0.0, p = 0.0, L = 0.0;
 };
-Drift drift(const PlateRun& r) {
-  std::size_t i0 = 0;
-  while (r.t[i0] < 0.2 - 1e-9) ++i0;
+Drift drift(const test::Trajectory& r) {
+  const auto& s = r.snapshots;
+  const std::size_t i0 = r.first_at(0.2);
   Drift d;
-  for (std::size_t i = i0; i < r.t.size(); ++i) {
-    d.energy = std::max(d.energy, std::abs(r.energy[i] - r.energy[i0]) / r.energy[i0]);
-    d.p = std::max(d.p, (r.p[i] - r.p[i0]).norm() / r.p[i0].norm());
-    d.L = std::max(d.L, (r.L[i] - r.L[i0]).norm() / r.L[i0].norm());
+  for (std::size_t i = i0; i < s.size(); ++i) {
+    d.energy =
+        std::max(d.energy, std::abs(s[i].total_energy - s[i0].total_energy) / s[i0].total_energy);
+    d.p = std::max(
+        d.p, (s[i].linear_momentum - s[i0].linear_momentum).norm() / s[i0].linear_momentum.norm());
+    d.L = std::max(d.L, (s[i].angular_momentum - s[i0].angular_momentum).norm() /
+                            s[i0].angular_momentum.norm());
   }
   return d;
 }
@@ -77,33 +53,33 @@ TEST(KLFreePlate, CountsAndTheKickedState) {
   EXPECT_EQ(sys.n(), 231);
   EXPECT_EQ(sys.m_selected(), 0);
   EXPECT_EQ(sys.kl_patches().size(), 1u);
-  const PlateRun r = simulate(m, F::reparametrized);
+  const test::Trajectory r = test::simulate(m, F::reparametrized);
   EXPECT_EQ(r.unknowns, 231);
   // The impulse of the pulse (model.yaml): p(0.2) = (0, 2.5, 10), exactly in the midpoint rule,
   // whose quadrature of sin²(5πt) = (1 − cos 10πt)/2 by the midpoint values of 20 steps over its
   // period is exact.
-  std::size_t i0 = 0;
-  while (r.t[i0] < 0.2 - 1e-9) ++i0;
-  EXPECT_NEAR(r.p[i0].x(), 0.0, 1e-12);
-  EXPECT_NEAR(r.p[i0].y(), 2.5, 1e-11);
-  EXPECT_NEAR(r.p[i0].z(), 10.0, 1e-11);
-  EXPECT_GT(r.energy.back(), 1.0);  // kicked: kinetic and strain energy
+  const Vec3 p = r.snapshots[r.first_at(0.2)].linear_momentum;
+  EXPECT_NEAR(p.x(), 0.0, 1e-12);
+  EXPECT_NEAR(p.y(), 2.5, 1e-11);
+  EXPECT_NEAR(p.z(), 10.0, 1e-11);
+  EXPECT_GT(r.snapshots.back().total_energy, 1.0);  // kicked: kinetic and strain energy
 }
 
 TEST(KLFreePlate, ConservesEnergyAndMomentaAfterThePulseInEveryFormulation) {
   const model::Model m = plate(0.6, 0.01);
-  std::vector<PlateRun> runs;
+  std::vector<std::vector<Vec3>> corner;
   for (F f : {F::reparametrized, F::constrained, F::nullspace}) {
-    runs.push_back(simulate(m, f));
-    const Drift d = drift(runs.back());
+    const test::Trajectory run = test::simulate(m, f);
+    corner.push_back(run.probe("corner"));
+    const Drift d = drift(run);
     EXPECT_LT(d.energy, 1e-12) << model::to_string(f);
     EXPECT_LT(d.p, 1e-12) << model::to_string(f);
     EXPECT_LT(d.L, 1e-11) << model::to_string(f);
   }
   // The same motion from the three formulations (to the Newton tolerance).
-  for (std::size_t k = 1; k < runs.size(); ++k)
-    for (std::size_t i = 0; i < runs[0].corner.size(); ++i)
-      EXPECT_LT((runs[k].corner[i] - runs[0].corner[i]).norm(), 1e-9) << k << " " << i;
+  for (std::size_t k = 1; k < corner.size(); ++k)
+    for (std::size_t i = 0; i < corner[0].size(); ++i)
+      EXPECT_LT((corner[k][i] - corner[0][i]).norm(), 1e-9) << k << " " << i;
 }
 
 TEST(KLFreePlate, SecondOrderInTheStep) {
@@ -130,7 +106,7 @@ probes:
   for (double dt : {0.01, 0.005, 0.0025, 0.00125}) {
     model::Model m = io::read_model_string(model, "coarse.yaml");
     m.solver.dt = dt;
-    at.push_back(simulate(m, F::reparametrized).corner.back());
+    at.push_back(test::simulate(m, F::reparametrized).probe("corner").back());
   }
   const double d1 = (at[0] - at[1]).norm(), d2 = (at[1] - at[2]).norm(),
                d3 = (at[2] - at[3]).norm();

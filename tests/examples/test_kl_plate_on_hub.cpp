@@ -11,45 +11,18 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/trajectory.hpp"
 
 using namespace isoflex;
 using F = model::Formulation;
 
 namespace {
 
-struct HubRun {
-  std::vector<double> t, energy, violation;
-  std::vector<Vec3> p, L, tip;
-  int unknowns = 0;
-};
-
 model::Model hub(const std::string& text, double t_end, double dt) {
   model::Model m = io::read_model_string(text, "model.yaml");
   m.solver.t_end = t_end;
   m.solver.dt = dt;
   return m;
-}
-
-HubRun simulate(model::Model m, F f) {
-  m.solver.formulation = f;
-  const auto sys = system::System::compile(m);
-  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
-  auto s = integ.initial_state();
-  HubRun r;
-  r.unknowns = integ.unknowns();
-  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-  for (int i = 0; i <= steps; ++i) {
-    const auto st = i == 0 ? integrate::StepStats{} : integ.step(s);
-    const auto snap = integ.snapshot(s, st, {});
-    r.t.push_back(snap.t);
-    r.energy.push_back(snap.total_energy);
-    r.violation.push_back(snap.constraint_violation);
-    r.p.push_back(snap.linear_momentum);
-    r.L.push_back(snap.angular_momentum);
-    for (const auto& pr : snap.probes)
-      if (pr.name == "tip") r.tip.push_back(pr.position);
-  }
-  return r;
 }
 
 std::string example() {
@@ -70,26 +43,30 @@ TEST(KLPlateOnHub, Counts) {
 
 TEST(KLPlateOnHub, ConservesAndTheFormulationsAgree) {
   const model::Model m = hub(example(), 0.5, 0.01);
-  std::vector<HubRun> runs;
+  std::vector<std::vector<Vec3>> tip;
+  std::vector<int> unknowns;
   for (F f : {F::reparametrized, F::constrained, F::nullspace}) {
-    runs.push_back(simulate(m, f));
-    const HubRun& r = runs.back();
-    std::size_t i0 = 0;
-    while (r.t[i0] < 0.2 - 1e-9) ++i0;
-    ASSERT_GT(r.energy[i0], 1.0);
-    for (std::size_t i = i0; i < r.t.size(); ++i) {
-      EXPECT_LT(std::abs(r.energy[i] - r.energy[i0]) / r.energy[i0], 1e-12) << i;
-      EXPECT_LT((r.p[i] - r.p[i0]).norm(), 1e-11) << i;  // p = 0: the pulse is a pure torque
-      EXPECT_LT((r.L[i] - r.L[i0]).norm() / r.L[i0].norm(), 1e-12) << i;
+    const test::Trajectory r = test::simulate(m, f);
+    tip.push_back(r.probe("tip"));
+    unknowns.push_back(r.unknowns);
+    const auto& s = r.snapshots;
+    const std::size_t i0 = r.first_at(0.2);
+    ASSERT_GT(s[i0].total_energy, 1.0);
+    for (std::size_t i = i0; i < s.size(); ++i) {
+      EXPECT_LT(std::abs(s[i].total_energy - s[i0].total_energy) / s[i0].total_energy, 1e-12) << i;
+      // p = 0: the pulse is a pure torque.
+      EXPECT_LT((s[i].linear_momentum - s[i0].linear_momentum).norm(), 1e-11) << i;
+      EXPECT_LT(
+          (s[i].angular_momentum - s[i0].angular_momentum).norm() / s[i0].angular_momentum.norm(),
+          1e-12)
+          << i;
     }
-    for (double v : r.violation) EXPECT_LT(v, 1e-13);
+    for (const auto& x : s) EXPECT_LT(x.constraint_violation, 1e-13);
   }
-  EXPECT_EQ(runs[0].unknowns, 141);
-  EXPECT_EQ(runs[1].unknowns, 177 + 36);
-  EXPECT_EQ(runs[2].unknowns, 177);
-  for (std::size_t k = 1; k < runs.size(); ++k)
-    for (std::size_t i = 0; i < runs[0].tip.size(); ++i)
-      EXPECT_LT((runs[k].tip[i] - runs[0].tip[i]).norm(), 1e-8) << k << " " << i;
+  EXPECT_EQ(unknowns, (std::vector<int>{141, 177 + 36, 177}));
+  for (std::size_t k = 1; k < tip.size(); ++k)
+    for (std::size_t i = 0; i < tip[0].size(); ++i)
+      EXPECT_LT((tip[k][i] - tip[0][i]).norm(), 1e-8) << k << " " << i;
 }
 
 TEST(KLPlateOnHub, SecondOrderInTheStep) {
@@ -101,7 +78,7 @@ TEST(KLPlateOnHub, SecondOrderInTheStep) {
       "thickness: 0.02", "thickness: 0.05");
   std::vector<Vec3> at;
   for (double dt : {0.01, 0.005, 0.0025, 0.00125})
-    at.push_back(simulate(hub(soft, 0.4, dt), F::reparametrized).tip.back());
+    at.push_back(test::simulate(hub(soft, 0.4, dt), F::reparametrized).probe("tip").back());
   const double d1 = (at[0] - at[1]).norm(), d2 = (at[1] - at[2]).norm(),
                d3 = (at[2] - at[3]).norm();
   EXPECT_GT(d1 / d2, 3.6) << d1 << " " << d2;

@@ -1,0 +1,47 @@
+#pragma once
+// A model run with the energy–momentum integrator, every snapshot kept (tests of the examples).
+#include <string>
+#include <vector>
+
+#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::test {
+
+struct Trajectory {
+  std::vector<integrate::Snapshot> snapshots;  // the initial state, then every step
+  int unknowns = 0;                            // per Newton iteration
+
+  // The position of probe `name` at every snapshot.
+  std::vector<Vec3> probe(const std::string& name) const {
+    std::vector<Vec3> path;
+    for (const auto& s : snapshots)
+      for (const auto& p : s.probes)
+        if (p.name == name) path.push_back(p.position);
+    return path;
+  }
+  // The index of the first snapshot at t ≥ t0.
+  std::size_t first_at(double t0) const {
+    std::size_t i = 0;
+    while (i + 1 < snapshots.size() && snapshots[i].t < t0 - 1e-9) ++i;
+    return i;
+  }
+};
+
+// Runs m (t_end / dt steps) in formulation f.
+inline Trajectory simulate(model::Model m, model::Formulation f) {
+  m.solver.formulation = f;
+  const auto sys = system::System::compile(m);
+  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+  auto state = integ.initial_state();
+  Trajectory r;
+  r.unknowns = integ.unknowns();
+  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
+  for (int i = 0; i <= steps; ++i) {
+    const auto st = i == 0 ? integrate::StepStats{} : integ.step(state);
+    r.snapshots.push_back(integ.snapshot(state, st, {}));
+  }
+  return r;
+}
+
+}  // namespace isoflex::test
