@@ -22,12 +22,17 @@ StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
                       Scale&& scale, Increment&& increment) {
   StepStats st;
   double ref = 1.0;
+  double first = 0.0, first_ref = 1.0;  // at the start value: the model's scale, not a diverged one
   for (int it = 0; it <= settings.max_iterations; ++it) {
     const VecX R = residual(x, true);
     st.residual = R.lpNorm<Eigen::Infinity>();
     st.iterations = it;
     if (!std::isfinite(st.residual)) break;
     ref = scale(x);
+    if (it == 0) {
+      first = st.residual;
+      first_ref = ref;
+    }
     if (st.residual <= settings.residual_tolerance * ref) return st;
     if (it == settings.max_iterations) break;
     VecX dx;
@@ -46,6 +51,13 @@ StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
       break;
     }
   }
+  // A residual that grew by orders of magnitude (or overflowed) diverged; its scale would be the
+  // diverged iterate's, so the start value's is reported.
+  if (!std::isfinite(st.residual) || st.residual > 1e6 * std::max(first, 1e-300))
+    throw NewtonFailure(fmt::format(
+        "{}: Newton diverged: the residual grew from {:.3e} to {:.3e} in {} iterations "
+        "(tolerance {:.1e} x scale {:.3e} at the start)",
+        where, first, st.residual, st.iterations, settings.residual_tolerance, first_ref));
   throw NewtonFailure(fmt::format(
       "{}: Newton did not converge in {} iterations; residual {:.3e} (tolerance {:.1e} x scale "
       "{:.3e})",
