@@ -8,6 +8,7 @@
 
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/trajectory.hpp"
 
 using namespace isoflex;
 using F = model::Formulation;
@@ -15,42 +16,25 @@ using F = model::Formulation;
 namespace {
 const std::string kModel = ISOFLEX_SOURCE_DIR "/examples/slider_crank_flexible/model.yaml";
 
-struct Trajectory {
-  std::vector<double> t, energy;
-  std::vector<Vec3> connection;  // path of the rigid connection point (probe "connection")
-  double max_violation = 0.0;
-  int unknowns = 0;
-};
-
-Trajectory simulate(F f) {
-  auto m = io::read_model(kModel);
-  m.solver.formulation = f;
-  const auto sys = system::System::compile(m);
-  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
-  auto s = integ.initial_state();
-  Trajectory r;
-  r.unknowns = integ.unknowns();
-  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-  for (int i = 0; i <= steps; ++i) {
-    const auto st = i == 0 ? integrate::StepStats{} : integ.step(s);
-    const auto snap = integ.snapshot(s, st, {});
-    r.t.push_back(snap.t);
-    r.energy.push_back(snap.total_energy);
-    r.max_violation = std::max(r.max_violation, snap.constraint_violation);
-    for (const auto& p : snap.probes)
-      if (p.name == "connection") r.connection.push_back(p.position);
-  }
-  return r;
+test::Trajectory simulate(F f) {
+  return test::simulate(io::read_model(kModel), f);
 }
 
 // max |E(t) − E(2)| / |E(2)| over t ≥ 2, when f(t) = 0 (DNSM-III (70)).
-double drift_after_load(const Trajectory& r) {
-  std::size_t i2 = 0;
-  while (r.t[i2] < 2.0 - 1e-9) ++i2;
+double drift_after_load(const test::Trajectory& r) {
+  const auto& s = r.snapshots;
+  const std::size_t i2 = r.first_at(2.0);
   double d = 0.0;
-  for (std::size_t i = i2; i < r.t.size(); ++i)
-    d = std::max(d, std::abs(r.energy[i] - r.energy[i2]) / std::abs(r.energy[i2]));
+  for (std::size_t i = i2; i < s.size(); ++i)
+    d = std::max(d,
+                 std::abs(s[i].total_energy - s[i2].total_energy) / std::abs(s[i2].total_energy));
   return d;
+}
+
+double max_violation(const test::Trajectory& r) {
+  double v = 0.0;
+  for (const auto& s : r.snapshots) v = std::max(v, s.constraint_violation);
+  return v;
 }
 }  // namespace
 
@@ -89,23 +73,24 @@ TEST(SliderCrankFlexible, CheckPrintsTheCounts) {
 
 // The whole 10 s run with both schemes (Δt = 0.01, Newton increment tolerance 1e-12).
 TEST(SliderCrankFlexible, ConservesEnergyAfterTheLoadAndBothSchemesAgree) {
-  const Trajectory rep = simulate(F::reparametrized);
-  const Trajectory con = simulate(F::constrained);
+  const test::Trajectory rep = simulate(F::reparametrized);
+  const test::Trajectory con = simulate(F::constrained);
   EXPECT_EQ(rep.unknowns, 214);
   EXPECT_EQ(con.unknowns, 722);
   // The load does work (energy ≈ 4.45e3 at t = 2), then the system is conservative.
-  EXPECT_GT(rep.energy[200], 1e3);
+  EXPECT_GT(rep.snapshots[200].total_energy, 1e3);
   EXPECT_LT(drift_after_load(rep), 1e-10);
   EXPECT_LT(drift_after_load(con), 1e-10);
   // Constraints (internal and joints) at round-off at every time node: coordinates are O(5).
-  EXPECT_LT(rep.max_violation, 1e-13);
-  EXPECT_LT(con.max_violation, 1e-13);
+  EXPECT_LT(max_violation(rep), 1e-13);
+  EXPECT_LT(max_violation(con), 1e-13);
   // The same motion: the path of the connection point, max over all time nodes.
-  ASSERT_EQ(rep.connection.size(), con.connection.size());
+  const std::vector<Vec3> a = rep.probe("connection"), b = con.probe("connection");
+  ASSERT_EQ(a.size(), b.size());
   double diff = 0.0, travel = 0.0;
-  for (std::size_t i = 0; i < rep.connection.size(); ++i) {
-    diff = std::max(diff, (rep.connection[i] - con.connection[i]).norm());
-    travel = std::max(travel, (rep.connection[i] - rep.connection[0]).norm());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    diff = std::max(diff, (a[i] - b[i]).norm());
+    travel = std::max(travel, (a[i] - a[0]).norm());
   }
   EXPECT_LT(diff, 1e-6);
   EXPECT_GT(travel, 1.0);  // it does move: the crank swings (Fig. 5)

@@ -28,6 +28,15 @@ struct Trajectory {
   }
 };
 
+// Convergence in the step: for results at Δt, Δt/2, Δt/4, … the ratios of the differences of
+// successive results, |x₀ − x₁| / |x₁ − x₂|, … (4 for a second-order scheme).
+inline std::vector<double> successive_ratios(const std::vector<Vec3>& at) {
+  std::vector<double> r;
+  for (std::size_t i = 0; i + 2 < at.size(); ++i)
+    r.push_back((at[i] - at[i + 1]).norm() / (at[i + 1] - at[i + 2]).norm());
+  return r;
+}
+
 // Runs m (t_end / dt steps) in formulation f.
 inline Trajectory simulate(model::Model m, model::Formulation f) {
   m.solver.formulation = f;

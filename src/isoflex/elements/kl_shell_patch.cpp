@@ -14,6 +14,7 @@
 #include "isoflex/elements/kl_shell_patch_impl.hpp"
 #include "isoflex/geometry/element_basis.hpp"
 #include "isoflex/math/exact_text.hpp"
+#include "isoflex/math/sparse_pattern.hpp"
 
 namespace isoflex::elements {
 
@@ -278,12 +279,7 @@ double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
 }
 
 void KLShellPatch::Impl::adopt_pattern(SpMat& K) const {
-  const bool same =
-      K.rows() == pattern.rows() && K.cols() == pattern.cols() && K.isCompressed() &&
-      K.nonZeros() == pattern.nonZeros() &&
-      std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + pattern.outerSize() + 1,
-                 K.outerIndexPtr());
-  if (!same) K = pattern;
+  if (!has_pattern(K, pattern)) K = pattern;
 }
 
 VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) const {

@@ -4,6 +4,8 @@
 #include <cassert>
 #include <stdexcept>
 
+#include "isoflex/math/sparse_pattern.hpp"
+
 namespace isoflex::system {
 
 int GlobalMatrix::add(const SpMat& local, std::vector<int> coords) {
@@ -56,12 +58,7 @@ void GlobalMatrix::finalize(int n) {
 }
 
 void GlobalMatrix::reset(SpMat& K) const {
-  const bool same =
-      K.rows() == pattern_.rows() && K.cols() == pattern_.cols() && K.isCompressed() &&
-      K.nonZeros() == pattern_.nonZeros() &&
-      std::equal(pattern_.outerIndexPtr(), pattern_.outerIndexPtr() + pattern_.outerSize() + 1,
-                 K.outerIndexPtr());
-  if (!same) K = pattern_;
+  if (!has_pattern(K, pattern_)) K = pattern_;
   std::fill_n(K.valuePtr(), K.nonZeros(), 0.0);
 }
 
