@@ -57,8 +57,29 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
 }
 
 StepStats StaticEquilibrium::step(State& s) const {
+  const int step = s.step;
+  const StepStats st = advance(s, settings_.dt, 0);
+  s.step = step + 1;
+  return st;
+}
+
+// A load increment whose Newton iteration fails is retried as two halves from the last
+// equilibrium, at most max_subdivisions deep (as the time steps of EnergyMomentumIntegrator);
+// only the end of the nominal increment is reported.
+StepStats StaticEquilibrium::advance(State& s, double dt, int depth) const {
+  try {
+    return attempt(s, dt);
+  } catch (const NewtonFailure&) {
+    if (depth >= settings_.max_subdivisions) throw;
+  }
+  const StepStats a = advance(s, 0.5 * dt, depth + 1);
+  const StepStats b = advance(s, 0.5 * dt, depth + 1);
+  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
+}
+
+StepStats StaticEquilibrium::attempt(State& s, double dt) const {
   const int n = sys_.n(), m = sys_.m_selected();
-  const double t = s.t + settings_.dt;
+  const double t = s.t + dt;
   if (settings_.linear) {
     // Geometrically linear: one Newton correction from the unloaded reference (q₀, λ = 0), whose
     // tangent is the small-displacement stiffness; the load enters linearly.
@@ -70,7 +91,6 @@ StepStats StaticEquilibrium::step(State& s) const {
     s.q = x.head(n);
     s.last_unknowns = x.tail(m);
     s.t = t;
-    ++s.step;
     return {1, evaluate(t, x, nullptr).lpNorm<Eigen::Infinity>(), 1};
   }
   VecX x(n + m);
@@ -92,7 +112,6 @@ StepStats StaticEquilibrium::step(State& s) const {
   s.q = x.head(n);
   s.last_unknowns = x.tail(m);
   s.t = t;
-  ++s.step;
   return st;
 }
 

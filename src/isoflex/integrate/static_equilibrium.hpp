@@ -25,13 +25,16 @@ class StaticEquilibrium {
   // at t = 0 and there is no gravity).
   State initial_state() const;
   // Equilibrium at the load parameter s.t + Δt, Newton started from s.q and the last multipliers
-  // (kept in s.last_unknowns). Throws NewtonFailure when Newton does not converge.
+  // (kept in s.last_unknowns); an increment that fails is taken in halves, at most
+  // solver.max_subdivisions deep. Throws NewtonFailure (s unchanged) when that does not converge.
   StepStats step(State& s) const;
   // R(x) and J(x) at the load parameter t for x = (q, λ) (tests).
   VecX residual(double t, const VecX& x, MatX* J) const;
 
  private:
   VecX evaluate(double t, const VecX& x, system::SpMat* J) const;
+  StepStats advance(State& s, double dt, int depth) const;
+  StepStats attempt(State& s, double dt) const;  // one increment; s unchanged if it throws
 
   const system::System& sys_;
   model::Solver settings_;
