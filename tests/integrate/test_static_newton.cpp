@@ -4,6 +4,7 @@
 // imposed by elimination and by Lagrange multipliers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -80,6 +81,24 @@ struct SpringChain {
 
 // r(x) = atan(x − a·t²) + (x − a·t²)·eps: the root x* = a t² moves with t; Newton for atan from
 // a start farther than ≈ 1.39 from the root diverges.
+// atan(x − g(t)) with a steep step g = 10 tanh(40 (t − 0.3)): hard only near t = 0.3, so the
+// increments are halved there and grow back afterwards.
+StaticProblem arctan_with_a_step() {
+  StaticProblem pb;
+  pb.reference = VecX::Constant(1, 10.0 * std::tanh(-12.0));
+  pb.evaluate = [](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
+    const double y = x(0) - 10.0 * std::tanh(40.0 * (t - 0.3));
+    out.r = VecX::Constant(1, std::atan(y));
+    out.load_norm = 0.0;
+    if (with_tangent) {
+      out.K.resize(1, 1);
+      out.K.insert(0, 0) = 1.0 / (1.0 + y * y);
+      out.K.makeCompressed();
+    }
+  };
+  return pb;
+}
+
 StaticProblem moving_arctan(double a) {
   StaticProblem pb;
   pb.reference = VecX::Zero(1);
@@ -269,6 +288,30 @@ TEST(StaticNewton, AdaptiveHalvingRecoversWhereFullStepsFail) {
   EXPECT_LE(smallest, 0.125);
   EXPECT_GT(largest, smallest);  // the increment grew again after easy steps
   EXPECT_NEAR(res.steps.back().t, 1.0, 0.0);
+}
+
+// After a halving the increments grow back onto the nominal load levels: every k/4 is an
+// accepted load factor, so the outputs have a row at each level the user asked for (without the
+// snap to the grid this run jumps from 0.47 over 0.5 and 0.75).
+TEST(StaticNewton, AdaptiveStepsReturnToTheNominalLevels) {
+  StaticSettings set;
+  set.steps = 4;
+  set.force_floor = 1.0;
+  set.max_iterations = 30;
+  set.adaptive = true;
+  set.grow_after = 1;  // grows after one easy step, also from odd multiples of a halved one
+  StaticNewtonSolver adaptive(arctan_with_a_step(), {}, set);
+  const StaticResult res = adaptive.solve();
+  EXPECT_NEAR(res.x(0), 10.0 * std::tanh(28.0), 1e-10);
+  int cuts = 0;
+  for (const auto& st : res.steps) cuts += st.cuts;
+  EXPECT_GE(cuts, 4);  // the increments near t = 0.3 are halved
+  for (int k = 1; k <= 4; ++k) {
+    const bool hit = std::any_of(res.steps.begin(), res.steps.end(), [&](const LoadStepStats& st) {
+      return std::abs(st.t - 0.25 * k) <= 1e-15;
+    });
+    EXPECT_TRUE(hit) << "no accepted load step at t = " << 0.25 * k;
+  }
 }
 
 TEST(StaticNewton, FailureMessageNamesStepFactorAndResidual) {

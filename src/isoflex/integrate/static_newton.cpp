@@ -373,6 +373,12 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
   const int analyses0 = I.cholesky.analyses() + I.lu.analyses();
   while (t < s.t_end) {
     double dt_try = std::min(dt, s.t_end - t);
+    if (dt < dt_nominal) {
+      // After a halving the increments grow back, but never step over a nominal load level
+      // k·Δt: the user's grid keeps its rows in the outputs (an unhalved run is unchanged).
+      const double next = std::min(s.t_end, (std::floor(t / dt_nominal + 1e-9) + 1.0) * dt_nominal);
+      if (t + dt_try > next - 1e-12 * dt_nominal) dt_try = next - t;
+    }
     if (s.t_end - (t + dt_try) < 1e-12 * dt_nominal) dt_try = s.t_end - t;
     const double t_try = t + dt_try;
     LoadStepStats st;
