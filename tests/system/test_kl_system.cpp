@@ -61,9 +61,8 @@ TEST(KLSystem, DiscreteForceTangentInTheFixedPattern) {
 
 TEST(KLSystem, ControlPointsJoinedToBodies) {
   const auto sys = system::System::compile(io::read_model_string(
-      kl_model_text(
-          "joints:\n  - {type: spherical, body_a: hub, body_b: \"plate[0]\", point: [0, 0, 0]}\n"
-          "  - {type: rigid, body_a: hub, body_b: \"plate[4]\"}\n"),
+      kl_model_text("joints:\n  - {type: spherical, body_a: hub, body_b: \"plate[0]\"}\n"
+                    "  - {type: rigid, body_a: hub, body_b: \"plate[4]\"}\n"),
       "m.yaml"));
   EXPECT_EQ(sys.node_count(NodeKind::point), 5 * 4);
   EXPECT_EQ(sys.m_selected(), 6 + 6);

@@ -112,8 +112,9 @@ class Reader : YamlFields {
           std::find_if(m.surfaces.begin(), m.surfaces.end(),
                        [&](const model::Surface& f) { return f.name == s.surface; });
       if (surface != m.surfaces.end())
-        beams_.emplace(s.name, BeamInfo{s.source.line,
-                                        static_cast<int>(surface->surface.points.size()), true});
+        beams_.emplace(
+            s.name,
+            BeamInfo{s.source.line, static_cast<int>(surface->surface.points.size()), true, true});
     }
     if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
@@ -523,7 +524,9 @@ class Reader : YamlFields {
     if (const auto v = n["point"]) j.point = vec3(v, join(p, "point"));
     if (const auto v = n["point_a"]) j.point_a = vec3(v, join(p, "point_a"));
     if (const auto v = n["point_b"]) j.point_b = vec3(v, join(p, "point_b"));
-    if (needs_point(j.type) && !point_key)
+    // A control point of a Kirchhoff–Love shell is itself the joint point.
+    const bool control_point = kl_node(j.body_a) || kl_node(j.body_b);
+    if (needs_point(j.type) && !point_key && !control_point)
       fail(n, join(p, "point"),
            fmt::format("missing required key for a {} joint (or give point_a or point_b)",
                        type_name));
@@ -627,7 +630,15 @@ class Reader : YamlFields {
     int line = 0;  // of its name
     int node_count = 0;
     bool shell = false;
+    bool kl = false;  // a Kirchhoff–Love shell: its nodes are control points
   };
+  // Whether a body reference names a control point "<kl shell>[A]".
+  bool kl_node(const std::string& ref) const {
+    const auto open = ref.find('[');
+    if (open == std::string::npos) return false;
+    const auto it = beams_.find(ref.substr(0, open));
+    return it != beams_.end() && it->second.kl;
+  }
 
   std::map<std::string, int> body_lines_;  // name → line of its definition
   std::map<std::string, std::pair<YAML::Node, std::string>> body_names_;  // name → (node, key)
