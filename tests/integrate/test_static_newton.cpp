@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -79,15 +80,13 @@ struct SpringChain {
   }
 };
 
-// r(x) = atan(x − a·t²) + (x − a·t²)·eps: the root x* = a t² moves with t; Newton for atan from
-// a start farther than ≈ 1.39 from the root diverges.
-// atan(x − g(t)) with a steep step g = 10 tanh(40 (t − 0.3)): hard only near t = 0.3, so the
-// increments are halved there and grow back afterwards.
-StaticProblem arctan_with_a_step() {
+// r(x) = atan(x − g(t)), x = g(0) at the start: the root moves with t; Newton for atan from a
+// start farther than ≈ 1.39 from the root diverges.
+StaticProblem arctan_following(std::function<double(double)> g) {
   StaticProblem pb;
-  pb.reference = VecX::Constant(1, 10.0 * std::tanh(-12.0));
-  pb.evaluate = [](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
-    const double y = x(0) - 10.0 * std::tanh(40.0 * (t - 0.3));
+  pb.reference = VecX::Constant(1, g(0.0));
+  pb.evaluate = [g](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
+    const double y = x(0) - g(t);
     out.r = VecX::Constant(1, std::atan(y));
     out.load_norm = 0.0;
     if (with_tangent) {
@@ -99,20 +98,15 @@ StaticProblem arctan_with_a_step() {
   return pb;
 }
 
+// g = a t²: the full step from t = 0 to 1 starts too far away for a = 10.
 StaticProblem moving_arctan(double a) {
-  StaticProblem pb;
-  pb.reference = VecX::Zero(1);
-  pb.evaluate = [a](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
-    const double y = x(0) - a * t * t;
-    out.r = VecX::Constant(1, std::atan(y));
-    out.load_norm = 0.0;
-    if (with_tangent) {
-      out.K.resize(1, 1);
-      out.K.insert(0, 0) = 1.0 / (1.0 + y * y);
-      out.K.makeCompressed();
-    }
-  };
-  return pb;
+  return arctan_following([a](double t) { return a * t * t; });
+}
+
+// A steep step g = 10 tanh(40 (t − 0.3)): hard only near t = 0.3, so the increments are halved
+// there and grow back afterwards.
+StaticProblem arctan_with_a_step() {
+  return arctan_following([](double t) { return 10.0 * std::tanh(40.0 * (t - 0.3)); });
 }
 
 // A 3D truss net: nodes on a jittered grid in the plane z = 0, bars to the right and upper

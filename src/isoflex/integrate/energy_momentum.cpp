@@ -320,26 +320,16 @@ VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) 
 StepStats EnergyMomentumIntegrator::step(State& s) const {
   const State start = s;  // a failure leaves s at the last completed step
   try {
-    const StepStats st = advance(s, settings_.dt, 0);
+    // Each part of a subdivided step is itself an energy–momentum step, so the conservation
+    // properties hold whatever the subdivision; only the time nodes in between are not written.
+    const StepStats st = subdivided([&](double dt) { return attempt(s, dt); }, settings_.dt,
+                                    settings_.max_subdivisions);
     s.step = start.step + 1;
     return st;
   } catch (const NewtonFailure&) {
     s = start;
     throw;
   }
-}
-
-// Each part is itself an energy–momentum step, so the conservation properties hold whatever the
-// subdivision; only the time nodes in between are not written.
-StepStats EnergyMomentumIntegrator::advance(State& s, double dt, int depth) const {
-  try {
-    return attempt(s, dt);
-  } catch (const NewtonFailure&) {
-    if (depth >= settings_.max_subdivisions) throw;
-  }
-  const StepStats a = advance(s, 0.5 * dt, depth + 1);
-  const StepStats b = advance(s, 0.5 * dt, depth + 1);
-  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
 }
 
 StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {

@@ -95,8 +95,6 @@ class EnergyMomentumIntegrator {
   VecX start_unknowns(const State& s, double dt, Predictor p) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
   StepStats attempt(State& s, double dt) const;
-  // attempt, retried as two steps of dt/2 on failure while depth < max_subdivisions.
-  StepStats advance(State& s, double dt, int depth) const;
   // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
   // b = −R placed at rows [row, row + R.size()).
   // On the tree path only K̂ and the configurations are kept; the solve is the recursion.

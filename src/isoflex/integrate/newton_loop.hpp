@@ -16,6 +16,21 @@ namespace isoflex::integrate {
 
 // residual(x, with_matrix) → R (keeping the Newton matrix when asked); correction(R) → Δx;
 // scale(x) → the residual scale; increment(Δx) → the size of Δx in configuration units.
+// A step of length dt by `attempt(dt)` (which leaves the state unchanged when it throws
+// NewtonFailure), retried as two halves on failure while fewer than max_subdivisions halvings
+// deep: the time steps of EnergyMomentumIntegrator and the load increments of StaticEquilibrium.
+template <class Attempt>
+StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int depth = 0) {
+  try {
+    return attempt(dt);
+  } catch (const NewtonFailure&) {
+    if (depth >= max_subdivisions) throw;
+  }
+  const StepStats a = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
+  const StepStats b = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
+  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
+}
+
 template <class Residual, class Correction, class Scale, class Increment>
 StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
                       const std::string& where, Residual&& residual, Correction&& correction,

@@ -56,25 +56,19 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
   return R;
 }
 
-StepStats StaticEquilibrium::step(State& s) const {
-  const int step = s.step;
-  const StepStats st = advance(s, settings_.dt, 0);
-  s.step = step + 1;
-  return st;
-}
-
 // A load increment whose Newton iteration fails is retried as two halves from the last
-// equilibrium, at most max_subdivisions deep (as the time steps of EnergyMomentumIntegrator);
-// only the end of the nominal increment is reported.
-StepStats StaticEquilibrium::advance(State& s, double dt, int depth) const {
+// equilibrium, at most max_subdivisions deep; only the end of the nominal increment is reported.
+StepStats StaticEquilibrium::step(State& s) const {
+  const State start = s;  // a failure after a converged part leaves s at the last equilibrium
   try {
-    return attempt(s, dt);
+    const StepStats st = subdivided([&](double dt) { return attempt(s, dt); }, settings_.dt,
+                                    settings_.max_subdivisions);
+    s.step = start.step + 1;
+    return st;
   } catch (const NewtonFailure&) {
-    if (depth >= settings_.max_subdivisions) throw;
+    s = start;
+    throw;
   }
-  const StepStats a = advance(s, 0.5 * dt, depth + 1);
-  const StepStats b = advance(s, 0.5 * dt, depth + 1);
-  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
 }
 
 StepStats StaticEquilibrium::attempt(State& s, double dt) const {

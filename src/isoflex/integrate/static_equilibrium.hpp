@@ -33,7 +33,6 @@ class StaticEquilibrium {
 
  private:
   VecX evaluate(double t, const VecX& x, system::SpMat* J) const;
-  StepStats advance(State& s, double dt, int depth) const;
   StepStats attempt(State& s, double dt) const;  // one increment; s unchanged if it throws
 
   const system::System& sys_;

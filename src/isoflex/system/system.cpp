@@ -483,11 +483,6 @@ Vec3 System::material_point(const VecX& q, int node, const Vec3& X) const {
   return node_type(node).material_point(node_q(q, node), X);
 }
 
-// Material points are linear in q, so their velocity is the same map applied to v.
-Vec3 System::material_velocity(const VecX&, const VecX& v, int node, const Vec3& X) const {
-  return material_point(v, node, X);
-}
-
 std::string System::describe_forest(const model::Model&) const {
   std::string out;
   // Free roots; consecutive nodes of one beam are listed as a range.

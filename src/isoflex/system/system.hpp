@@ -192,7 +192,6 @@ class System {
   // Stacked coordinates (24) of element e of beam b.
   VecX beam_element_q(const VecX& q, int b, int e) const;
   Vec3 material_point(const VecX& q, int node, const Vec3& X) const;
-  Vec3 material_velocity(const VecX& q, const VecX& v, int node, const Vec3& X) const;
 
   std::string describe_forest(const model::Model& model) const;
 
