@@ -318,18 +318,10 @@ VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) 
 }
 
 StepStats EnergyMomentumIntegrator::step(State& s) const {
-  const State start = s;  // a failure leaves s at the last completed step
-  try {
-    // Each part of a subdivided step is itself an energy–momentum step, so the conservation
-    // properties hold whatever the subdivision; only the time nodes in between are not written.
-    const StepStats st = subdivided([&](double dt) { return attempt(s, dt); }, settings_.dt,
-                                    settings_.max_subdivisions);
-    s.step = start.step + 1;
-    return st;
-  } catch (const NewtonFailure&) {
-    s = start;
-    throw;
-  }
+  // Each part of a subdivided step is itself an energy–momentum step, so the conservation
+  // properties hold whatever the subdivision; only the time nodes in between are not written.
+  return whole_step(
+      s, [&](double dt) { return attempt(s, dt); }, settings_.dt, settings_.max_subdivisions);
 }
 
 StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {

@@ -31,6 +31,21 @@ StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int dep
   return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
 }
 
+// One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, and a
+// failure (after a converged part, too) leaves s as it was.
+template <class Attempt>
+StepStats whole_step(State& s, Attempt&& attempt, double dt, int max_subdivisions) {
+  const State start = s;
+  try {
+    const StepStats st = subdivided(attempt, dt, max_subdivisions);
+    s.step = start.step + 1;
+    return st;
+  } catch (const NewtonFailure&) {
+    s = start;
+    throw;
+  }
+}
+
 template <class Residual, class Correction, class Scale, class Increment>
 StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
                       const std::string& where, Residual&& residual, Correction&& correction,

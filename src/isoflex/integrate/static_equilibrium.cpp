@@ -59,16 +59,8 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
 // A load increment whose Newton iteration fails is retried as two halves from the last
 // equilibrium, at most max_subdivisions deep; only the end of the nominal increment is reported.
 StepStats StaticEquilibrium::step(State& s) const {
-  const State start = s;  // a failure after a converged part leaves s at the last equilibrium
-  try {
-    const StepStats st = subdivided([&](double dt) { return attempt(s, dt); }, settings_.dt,
-                                    settings_.max_subdivisions);
-    s.step = start.step + 1;
-    return st;
-  } catch (const NewtonFailure&) {
-    s = start;
-    throw;
-  }
+  return whole_step(
+      s, [&](double dt) { return attempt(s, dt); }, settings_.dt, settings_.max_subdivisions);
 }
 
 StepStats StaticEquilibrium::attempt(State& s, double dt) const {
