@@ -357,6 +357,33 @@ TYPED_TEST(ElementContract, DiscreteGradientTangentMatchesFiniteDifference) {
   report(this->kind, "dDV/dq1 vs FD (rel)", worst);
 }
 
+// 2d. The tangent at one configuration (statics, the DAE integrators): gradient_in_pattern gives
+// ∇V(q) and, at pattern()'s positions, ∇²V(q) — the central finite-difference derivative of the
+// gradient, with nothing outside the pattern.
+TYPED_TEST(ElementContract, TangentAtOneConfigurationMatchesFiniteDifference) {
+  const auto& e = this->element;
+  const SpMat P = e.pattern();
+  double worst_g = 0.0, worst_k = 0.0;
+  for (int t = 0; t < this->kTrials; ++t) {
+    const VecX q = this->deformed();
+    std::vector<double> values(P.nonZeros(), std::nan(""));
+    const VecX g = e.gradient_in_pattern(q, values.data());
+    const double r_g = std::max(rel_diff(g, e.gradient(q)),
+                                rel_diff(e.gradient_in_pattern(q, nullptr), e.gradient(q)));
+    SpMat K = P;
+    std::copy(values.begin(), values.end(), K.valuePtr());
+    const MatX K_fd = extrapolated_jacobian([&](const VecX& x) { return e.gradient(x); }, q);
+    const double r_k =
+        (MatX(K) - K_fd).cwiseAbs().maxCoeff() / std::max(K_fd.cwiseAbs().maxCoeff(), 1.0);
+    EXPECT_LT(r_g, 1e-10) << "trial " << t;
+    EXPECT_LT(r_k, 1e-6) << "trial " << t;
+    worst_g = std::max(worst_g, r_g);
+    worst_k = std::max(worst_k, r_k);
+  }
+  report(this->kind, "gradient_in_pattern vs gradient (rel)", worst_g);
+  report(this->kind, "tangent vs FD of the gradient (rel max)", worst_k);
+}
+
 // 3. Second-order consistency, DNSM-III (18) with the midpoint rule: DV(q̄ − h d, q̄ + h d) =
 // ∇V(q̄) + O(h²) (the expansion is even in h, so the error falls by 4 per halving of h). An
 // element whose discrete gradient is exact for its potential (here the rigid body: V is linear in

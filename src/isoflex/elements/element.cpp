@@ -18,6 +18,13 @@ VecX Element::discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, doub
   return dv;
 }
 
+VecX Element::gradient_in_pattern(const VecX& q, double* values) const {
+  const VecX g = discrete_gradient_in_pattern(q, q, values);
+  if (values)
+    for (int k = 0, nnz = static_cast<int>(pattern().nonZeros()); k < nnz; ++k) values[k] *= 2.0;
+  return g;
+}
+
 SpMat Element::sparse_mass() const {
   return mass().sparseView(0.0, 0.0);
 }

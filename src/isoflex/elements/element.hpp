@@ -38,6 +38,12 @@ class Element {
   // discrete_gradient with ∂DV/∂qₙ₊₁ written into `values` (pattern().nonZeros() entries, the
   // pattern's storage order) when values is not null.
   virtual VecX discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, double* values) const;
+  // The gradient ∇V(q) with the tangent ∇²V(q) written into `values` (pattern order) when values
+  // is not null: statics and the DAE integrators. Default: DV(q, q) and 2 ∂DV/∂qₙ₊₁(q, q), exact
+  // for a discrete gradient symmetric in its arguments, DV(a, b) = DV(b, a) (the average-strain
+  // gradients of beams and director shells, gravity: docs/theory/beam.md §4); an element whose
+  // discrete gradient is not symmetric overrides it.
+  virtual VecX gradient_in_pattern(const VecX& q, double* values) const;
   // The mass matrix without its zero entries (computed once by the system).
   virtual SpMat sparse_mass() const;
 };

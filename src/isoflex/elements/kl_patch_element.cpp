@@ -40,6 +40,14 @@ VecX KLPatchElement::discrete_gradient_in_pattern(const VecX& qn, const VecX& qn
   return dv;
 }
 
+VecX KLPatchElement::gradient_in_pattern(const VecX& q, double* values) const {
+  if (!values) return patch_->internal_force(q, kinematics_, nullptr);
+  SpMat K = patch_->pattern();
+  const VecX r = patch_->internal_force(q, kinematics_, &K);
+  std::copy(K.valuePtr(), K.valuePtr() + K.nonZeros(), values);
+  return r;
+}
+
 MatX KLPatchElement::mass() const {
   return MatX(patch_->mass());
 }

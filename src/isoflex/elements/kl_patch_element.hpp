@@ -31,6 +31,9 @@ class KLPatchElement final : public Element {
 
   SpMat pattern() const override { return patch_->pattern(); }
   VecX discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, double* values) const override;
+  // ∇V = r (3.33) and ∇²V (3.35)–(3.36) from the patch (its discrete gradient is not symmetric
+  // in its arguments).
+  VecX gradient_in_pattern(const VecX& q, double* values) const override;
   SpMat sparse_mass() const override { return patch_->mass(); }
 
  private:

@@ -181,13 +181,37 @@ double System::potential(const VecX& q) const {
 VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const {
   VecX f = VecX::Zero(n());
   if (K) stiffness_.reset(*K);
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        return e.discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes), values);
+      },
+      f, K);
+  // Loads at the midpoint, f_ext(q_{n+½}, t_{n+½}); their part of ∂f/∂qₙ₊₁ is −½ ∂f_ext/∂q.
+  add_load_forces(0.5 * (qn + qn1), t_mid, 0.5, f, K, nullptr);
+  return f;
+}
+
+VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) const {
+  VecX f = VecX::Zero(n());
+  if (K) stiffness_.reset(*K);
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        return e.gradient_in_pattern(stacked(q, nodes), values);
+      },
+      f, K);
+  VecX fext = VecX::Zero(load_norm ? n() : 0);
+  add_load_forces(q, t, 1.0, f, K, load_norm ? &fext : nullptr);
+  if (load_norm) *load_norm = n() > 0 ? fext.lpNorm<Eigen::Infinity>() : 0.0;
+  return f;
+}
+
+void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) const {
   std::vector<double> values;
   for (std::size_t i = 0; i < elements_.size(); ++i) {
     const auto& e = elements_[i];
     const auto& nodes = e->nodes();
     if (K) values.resize(stiffness_.local_entries(element_part_[i]));
-    const VecX dv = e->discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes),
-                                                    K ? values.data() : nullptr);
+    const VecX dv = kernel(*e, nodes, K ? values.data() : nullptr);
     int o = 0;
     for (int a : nodes) {
       const int c = coordinate_count(a);
@@ -196,46 +220,54 @@ VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat
     }
     if (K) stiffness_.scatter(element_part_[i], values.data(), *K);
   }
+}
+
+// f −= f_ext(q, t) load by load; K += −c ∂f_ext/∂q; fext (if not null) += f_ext.
+void System::add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* K,
+                             VecX* fext) const {
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     const auto& L = loads_[l];
     const int o = nodes_[L.node()].q_offset;
-    const fn::Q qm = 0.5 * (qn.segment<12>(o) + qn1.segment<12>(o));
-    f.segment<12>(o) -= L.generalized_force(qm, t_mid);
+    const Vec<12> g = L.generalized_force(q.segment<12>(o), t);
+    f.segment<12>(o) -= g;
+    if (fext) fext->segment<12>(o) += g;
     if (K && load_part_[l] >= 0) {
-      const Mat<12, 12> D = -0.5 * L.generalized_force_derivative(t_mid);
+      const Mat<12, 12> D = -c * L.generalized_force_derivative(t);
       stiffness_.scatter(load_part_[l], D.data(), *K);
     }
   }
   for (std::size_t l = 0; l < director_loads_.size(); ++l) {
     const auto& L = director_loads_[l];
     const int o = nodes_[L.node()].q_offset;
-    const dn::Q qm = 0.5 * (qn.segment<6>(o) + qn1.segment<6>(o));
-    f.segment<6>(o) -= L.generalized_force(qm, t_mid);
+    const Vec<6> g = L.generalized_force(q.segment<6>(o), t);
+    f.segment<6>(o) -= g;
+    if (fext) fext->segment<6>(o) += g;
     if (K && director_load_part_[l] >= 0) {
-      const Mat<6, 6> D = -0.5 * L.generalized_force_derivative(t_mid);
+      const Mat<6, 6> D = -c * L.generalized_force_derivative(t);
       stiffness_.scatter(director_load_part_[l], D.data(), *K);
     }
   }
-  // Patch loads at the midpoint, λ(t_{n+½}) f(x_{n+½}); a follower load's tangent is −½ λ ∂f/∂x.
+  // Patch loads λ(t) f(x); a follower load's tangent is −c λ ∂f/∂x, in the patch's pattern.
   for (std::size_t p = 0; p < kl_patches_.size(); ++p) {
     const KLPatchInstance& P = kl_patches_[p];
     if (P.loads.empty()) continue;
-    const VecX xm = 0.5 * (stacked(qn, P.nodes) + stacked(qn1, P.nodes));
-    VecX fe = VecX::Zero(xm.size());
+    const VecX x = stacked(q, P.nodes);
+    VecX fe = VecX::Zero(x.size());
     SpMat Kl;
     for (const auto& L : P.loads) {
-      const double lambda = L->factor(t_mid);
+      const double lambda = L->factor(t);
       if (lambda == 0.0) continue;
-      fe += lambda * L->force(xm);
+      fe += lambda * L->force(x);
       if (!K || !L->follower()) continue;
       if (Kl.size() == 0) Kl = P.element->pattern();
-      L->add_tangent(xm, -0.5 * lambda, Kl);
+      L->add_tangent(x, -c * lambda, Kl);
     }
-    for (std::size_t k = 0; k < P.nodes.size(); ++k)
+    for (std::size_t k = 0; k < P.nodes.size(); ++k) {
       f.segment<3>(nodes_[P.nodes[k]].q_offset) -= fe.segment<3>(3 * k);
+      if (fext) fext->segment<3>(nodes_[P.nodes[k]].q_offset) += fe.segment<3>(3 * k);
+    }
     if (Kl.size() != 0) stiffness_.scatter(element_part_[P.element_index], Kl.valuePtr(), *K);
   }
-  return f;
 }
 
 VecX System::constraints(const VecX& q) const {

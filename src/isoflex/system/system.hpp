@@ -18,6 +18,7 @@
 //   q̇ = P_tree(q) ν with P_tree = P_int · E (DNSM-III (57), Table 3 iii.1(a)).
 #include <Eigen/SparseCore>
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -140,6 +141,9 @@ class System {
   double potential(const VecX& q) const;
   // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t); K (if not null) receives ∂f/∂qₙ₊₁.
   VecX discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const;
+  // Statics (and the DAE integrators): f = ∇V(q) − f_ext(q, t); K (if not null) receives
+  // ∂f/∂q = ∇²V − ∂f_ext/∂q in the same fixed pattern; load_norm (if not null) ‖f_ext(q, t)‖∞.
+  VecX static_force(const VecX& q, double t, SpMat* K, double* load_norm = nullptr) const;
 
   // Constraints, all rows.
   VecX constraints(const VecX& q) const;
@@ -210,6 +214,11 @@ class System {
   SpMat twist_map(const VecX& q, const InputBlocks& in) const;
   // The global coordinates of the given nodes, stacked.
   std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
+  using ElementKernel =
+      std::function<VecX(const elements::Element&, const std::vector<int>& nodes, double* values)>;
+  // f += the kernel's vector per element, K += its matrix values (fixed pattern).
+  void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) const;
+  void add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* K, VecX* fext) const;
   // Compile phases (system_compile.cpp), in this order; Build carries what they pass on.
   struct Build;
   void add_bodies(Build& build);
