@@ -62,11 +62,11 @@
 #include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_boundary_conditions.hpp"
 #include "isoflex/integrate/kl_static_solver.hpp"
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 
 namespace {
 
@@ -206,11 +206,11 @@ elements::KLShellPatch roof_patch(const geometry::NurbsSurface& s, int threads) 
   return patch;
 }
 
-integrate::KLBoundaryConditions roof_supports(const geometry::NurbsSurface& s) {
-  integrate::KLBoundaryConditions bc(s);
-  bc.fix_edge(loads::PatchEdge::v0, integrate::kCompX | integrate::kCompY);
-  bc.fix_edge(loads::PatchEdge::v1, integrate::kCompX | integrate::kCompY);
-  bc.fix_control_point(0, integrate::kCompZ);
+system::KLBoundaryConditions roof_supports(const geometry::NurbsSurface& s) {
+  system::KLBoundaryConditions bc(s);
+  bc.fix_edge(loads::PatchEdge::v0, system::kCompX | system::kCompY);
+  bc.fix_edge(loads::PatchEdge::v1, system::kCompX | system::kCompY);
+  bc.fix_control_point(0, system::kCompZ);
   return bc;
 }
 

@@ -89,14 +89,16 @@ TEST(KLCli, StaticRunWritesOutputsAndTheProbe) {
   const std::string probes = read(d / "out" / "probes.csv");
   EXPECT_NE(probes.find("\n0.5,ref,"), std::string::npos) << probes;
   EXPECT_NE(read(d / "out" / "history.csv").find("\n1,"), std::string::npos);
-  const std::string vtu = read(d / "out" / "vtk" / "step_000002.vtu");
+  // The patch is part 1 of each step's ParaView data (part 0: bodies, beams, director shells).
+  const std::string vtu = read(d / "out" / "vtk" / "plate_000002.vtu");
   for (const char* name : {"displacement", "\"n\"", "\"m\"", "sigma_top", "sigma_bottom",
                            "principal_top", "von_mises_top", "von_mises_bottom", "e1"})
     EXPECT_NE(vtu.find(name), std::string::npos) << name;
   // 1 024 quadrature points: one assembly thread whatever --threads asks (default: all cores).
   EXPECT_NE(summary.find("\"threads\": 1,"), std::string::npos) << summary;
   const std::string pvd = read(d / "out" / "results.pvd");
-  EXPECT_NE(pvd.find("timestep=\"1\" part=\"0\" file=\"vtk/step_000002.vtu\""), std::string::npos)
+  EXPECT_NE(pvd.find("timestep=\"1\" group=\"\" part=\"1\" file=\"vtk/plate_000002.vtu\""),
+            std::string::npos)
       << pvd;
 }
 
@@ -124,7 +126,7 @@ TEST(KLCli, ThreadsGiveTheSameResults) {
   }
   const std::string probes = read(d / "1" / "probes.csv");
   EXPECT_EQ(read(d / "3" / "probes.csv"), probes);
-  EXPECT_EQ(read(d / "3" / "vtk" / "step_000002.vtu"), read(d / "1" / "vtk" / "step_000002.vtu"));
+  EXPECT_EQ(read(d / "3" / "vtk" / "plate_000002.vtu"), read(d / "1" / "vtk" / "plate_000002.vtu"));
   // history.csv: Newton iterations and final residuals of every load step, the same too.
   EXPECT_EQ(read(d / "3" / "history.csv"), read(d / "1" / "history.csv"));
   EXPECT_NE(probes.find("\n1,ref,"), std::string::npos) << probes;
@@ -167,7 +169,7 @@ TEST(KLCli, BadInputExitsWith2) {
   r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("m.yaml:12: kl_supports[0]: in a dynamic run a Kirchhoff–Love support "
-                       "holds all components"),
+                       "(and in a static one a support to a body) holds all components"),
             std::string::npos)
       << r.out;
   EXPECT_FALSE(fs::exists(d / "o" / "summary.json"));
@@ -185,7 +187,7 @@ TEST(KLCli, NewtonFailureKeepsResultsAndSaysWhere) {
   EXPECT_NE(r.out.find("load step 2"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("results up to load step 1, t = 0.5"), std::string::npos) << r.out;
   EXPECT_NE(read(d / "out" / "summary.json").find("\"status\": \"failed\""), std::string::npos);
-  EXPECT_TRUE(fs::exists(d / "out" / "vtk" / "step_000001.vtu"));
+  EXPECT_TRUE(fs::exists(d / "out" / "vtk" / "plate_000001.vtu"));
 }
 
 TEST(KLCli, CheckCountsNodeAndConstraintKindsOfAPatchOnABody) {

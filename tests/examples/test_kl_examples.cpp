@@ -14,9 +14,9 @@
 #include <sstream>
 #include <string>
 
-#include "isoflex/integrate/kl_shell_analysis.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/statics.hpp"
 
 using namespace isoflex;
 
@@ -37,12 +37,11 @@ std::string refined(const std::string& text, const std::string& refine, int pu, 
 // Displacement of probe `ref` (the first probe) after the static solve of the model text.
 Vec3 ref_displacement(const std::string& text, const std::string& name) {
   const auto m = io::read_model_string(text, name);
-  const auto a = integrate::KLShellAnalysis::compile(m);
-  integrate::KLStaticSolver solver = a.solver();
-  const auto r = solver.solve();
-  const auto& probe = a.probes().at(0);
-  EXPECT_EQ(probe.name, "ref");
-  return a.point(r.x, probe.xi, probe.eta) - probe.reference;
+  const auto sys = test::static_system(m);
+  const auto r = test::solve_static(sys, m);
+  EXPECT_EQ(r.failure, "");
+  if (r.steps.empty()) return Vec3::Zero();
+  return test::probe_at(sys, r.steps.back().q, "ref") - test::probe_at(sys, sys.q0(), "ref");
 }
 
 double rel(double u, double ref) {

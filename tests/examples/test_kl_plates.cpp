@@ -1,5 +1,5 @@
 // The Kirchhoff–Love shell benchmarks on flat plates, read from their example files and solved
-// in-process (io::read_model_string → integrate::KLShellAnalysis → KLStaticSolver):
+// in-process (io::read_model_string → System → integrate::StaticEquilibrium):
 // - examples/plate_roll_up/kl_shell.yaml: the cantilever rolled up by an end moment, nonlinear,
 //   tip vs the exact arc (IGA-thesis (6.14)) at 90°, 180°, 360°;
 // - examples/kirchhoff_plates/kl_shell.yaml (simply supported) and kl_shell_clamped.yaml: square
@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "isoflex/integrate/kl_shell_analysis.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/statics.hpp"
 
 using namespace isoflex;
 
@@ -31,14 +31,12 @@ using test::replaced;
 // Displacement of probe `ref` after every accepted load step: (t, u).
 std::vector<std::pair<double, Vec3>> probe_path(const std::string& text, const std::string& name) {
   const model::Model m = io::read_model_string(text, name);
-  const auto a = integrate::KLShellAnalysis::compile(m);
-  integrate::KLStaticSolver solver = a.solver();
-  const integrate::KLProbe& probe = a.probes().at(0);
-  EXPECT_EQ(probe.name, "ref");
+  const auto sys = test::static_system(m);
+  const auto r = test::solve_static(sys, m);
+  EXPECT_EQ(r.failure, "");
+  const Vec3 X = test::probe_at(sys, sys.q0(), "ref");
   std::vector<std::pair<double, Vec3>> out;
-  solver.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
-    out.push_back({st.t, a.point(x, probe.xi, probe.eta) - probe.reference});
-  });
+  for (const auto& st : r.steps) out.push_back({st.t, test::probe_at(sys, st.q, "ref") - X});
   return out;
 }
 

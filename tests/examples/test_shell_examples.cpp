@@ -11,6 +11,7 @@
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/statics.hpp"
 
 using namespace isoflex;
 
@@ -22,16 +23,13 @@ using test::replaced;
 // Position of probe `ref` after each load step of the static solve.
 std::vector<std::pair<double, Vec3>> static_probe(const model::Model& m) {
   const auto sys = system::System::compile(m);
-  const integrate::StaticEquilibrium statics(sys, m.solver);
-  auto s = statics.initial_state();
+  const test::StaticRun run = test::solve_static(sys, m);
+  EXPECT_EQ(run.failure, "");
   std::vector<std::pair<double, Vec3>> out;
   const auto& probe = sys.probes().at(0);
   EXPECT_EQ(probe.name, "ref");
-  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-  for (int i = 0; i < steps; ++i) {
-    statics.step(s);
-    out.push_back({s.t, sys.material_point(s.q, probe.node, probe.X)});
-  }
+  for (const auto& st : run.steps)
+    out.push_back({st.t, sys.material_point(st.q, probe.node, probe.X)});
   return out;
 }
 

@@ -15,6 +15,12 @@
 
 using namespace isoflex;
 using namespace isoflex::integrate;
+using loads::PatchEdge;
+using system::kCompX;
+using system::kCompXYZ;
+using system::kCompY;
+using system::kCompZ;
+using system::KLBoundaryConditions;
 
 namespace {
 

@@ -11,7 +11,6 @@
 
 #include "isoflex/geometry/quadrature.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
-#include "isoflex/integrate/kl_shell_analysis.hpp"
 #include "isoflex/io/kl_shell_vtk.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/io/vtk_writer.hpp"
@@ -260,8 +259,6 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
                                            "e1"};
   EXPECT_EQ(test::data_array_names(expected, "PointData"), fields);
 
-  const auto a = integrate::KLShellAnalysis::compile(m);
-  EXPECT_EQ(io::kl_shell_vtu(a, x, 3), io::kl_shell_vtu(a.patch(), a.kinematics(), x, 3));
   EXPECT_THROW(io::kl_shell_vtu(*patch, elements::KLKinematics::nonlinear, x.head(x.size() - 3), 2),
                std::invalid_argument);
 }

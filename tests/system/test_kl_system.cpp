@@ -81,8 +81,8 @@ TEST(KLSystem, LocatedErrors) {
       "fixed or spherical, which coincide for a point), not revolute");
   EXPECT_EQ(compile_error(
                 kl_model_text("kl_supports: [{shell: plate, edge: u0, symmetry: [1, 0, 0]}]\n")),
-            "m.yaml:10: kl_supports[0]: in a dynamic run a Kirchhoff–Love support holds all "
-            "components, fixed or clamped, to the ground or a body; symmetry, prescribed "
-            "displacements and single components act in static analyses only for now "
-            "(solver.analysis: static)");
+            "m.yaml:10: kl_supports[0]: in a dynamic run a Kirchhoff–Love support (and in a "
+            "static one a support to a body) holds all components, fixed or clamped; symmetry, "
+            "prescribed displacements and single components act on supports to the ground in "
+            "static analyses only for now (solver.analysis: static)");
 }

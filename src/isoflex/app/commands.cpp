@@ -10,7 +10,6 @@
 #include <memory>
 #include <thread>
 
-#include "isoflex/app/kl_run.hpp"
 #include "isoflex/app/progress.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -25,19 +24,17 @@ namespace isoflex::app {
 
 namespace {
 
-// A model compiled as a system, or, for the static analysis of a model with a Kirchhoff–Love
-// shell, by the shell's own static path (not yet folded into the system).
+// A model compiled as a system.
 struct Loaded {
   model::Model model;
   std::unique_ptr<system::System> sys;
-  std::unique_ptr<integrate::KLShellAnalysis> kl;
 };
 
 // Reads and compiles a model, with the options' solver overrides applied first; prints one error
 // line and returns nullopt on bad input.
 std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o = nullptr) {
   try {
-    Loaded l{io::read_model(file), nullptr, nullptr};
+    Loaded l{io::read_model(file), nullptr};
     model::Solver& s = l.model.solver;
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
@@ -47,11 +44,7 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
       return std::nullopt;
     }
     if (o && o->statics) s.analysis = model::Analysis::statics;
-    if (!l.model.kl_shells.empty() && s.analysis == model::Analysis::statics)
-      l.kl = std::make_unique<integrate::KLShellAnalysis>(
-          integrate::KLShellAnalysis::compile(l.model));
-    else
-      l.sys = std::make_unique<system::System>(system::System::compile(l.model));
+    l.sys = std::make_unique<system::System>(system::System::compile(l.model));
     return l;
   } catch (const io::ModelError& e) {
     fmt::print(err, "error: {}\n", e.what());
@@ -85,13 +78,45 @@ std::string rows_by_joint(const system::System& sys, const std::vector<int>& row
   return s;
 }
 
+// A Kirchhoff–Love patch: mesh, quadrature and control points.
+void print_kl_check(const model::Model& m, const system::KLPatchInstance& P, std::FILE* out) {
+  const elements::KLShellPatch& p = P.element->patch();
+  const auto shell = std::find_if(m.kl_shells.begin(), m.kl_shells.end(),
+                                  [&](const model::KLShell& s) { return s.name == P.name; });
+  fmt::print(out,
+             "kl shell         {} on surface {}: {} elements, {} quadrature points ({} x {} "
+             "per element; reference data {} bytes per point)\n",
+             P.name, shell->surface, p.elements(), p.quadrature_points(),
+             shell->quadrature[0] > 0 ? shell->quadrature[0] : p.reference().degree_u() + 1,
+             shell->quadrature[1] > 0 ? shell->quadrature[1] : p.reference().degree_v() + 1,
+             p.reference_bytes_per_point());
+  fmt::print(out, "control points   {} (3 coordinates each)\n", p.control_points());
+  fmt::print(out, "dofs             {}\n", p.dofs());
+  fmt::print(out, "kinematics       {}\n",
+             P.element->kinematics() == elements::KLKinematics::linear ? "linear" : "nonlinear");
+}
+
+// A static analysis: load steps, the linear conditions and the unknowns.
+void print_static_check(const system::System& sys, const model::Solver& solver, std::FILE* out) {
+  const integrate::StaticEquilibrium eq(sys, solver);
+  const integrate::StaticSettings& s = eq.settings();
+  fmt::print(out, "analysis         static, {} load steps to t = {:g}{}\n", s.steps, s.t_end,
+             s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
+  fmt::print(out, "eliminated       {}  (fixed coordinates)\n", eq.eliminated());
+  fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges)\n",
+             eq.multipliers());
+  fmt::print(out,
+             "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
+             eq.unknowns());
+}
+
 }  // namespace
 
 int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   auto l = load(file, err);
   if (!l) return 2;
   fmt::print(out, "model            {}\n", file);
-  if (!l->kl) fmt::print(out, "bodies           {}\n", l->model.bodies.size());
+  fmt::print(out, "bodies           {}\n", l->model.bodies.size());
   if (l->sys && !l->sys->beams().empty()) {
     std::size_t elements = 0;
     for (const auto& b : l->sys->beams()) elements += b.elements.size();
@@ -121,11 +146,8 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
       fmt::print(out, "  {:<14} fix: {}\n", "", f.fix);
     }
   }
-  if (l->kl) {
-    print_kl_check(*l->kl, out);
-    return 0;
-  }
   const auto& sys = *l->sys;
+  for (const system::KLPatchInstance& P : sys.kl_patches()) print_kl_check(l->model, P, out);
   const int m_int = sys.internal_rows();
   // Counts per node kind (math/node_kind.hpp), the kinds present only.
   std::string kinds;
@@ -163,8 +185,11 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   fmt::print(out, "\n");
   fmt::print(out, "dof              {}  (n - m)\n", sys.n() - sys.m_selected());
   fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
-  fmt::print(out, "unknowns         constrained {}, nullspace {}, reparametrized {}\n",
-             sys.n() + sys.m_selected(), sys.n(), sys.k());
+  if (l->model.solver.analysis == model::Analysis::statics)
+    print_static_check(sys, l->model.solver, out);
+  else
+    fmt::print(out, "unknowns         constrained {}, nullspace {}, reparametrized {}\n",
+               sys.n() + sys.m_selected(), sys.n(), sys.k());
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
                "warning          initial velocities violate the joints; projected (relative change "
@@ -191,16 +216,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     return 2;
   }
 
-  if (l->kl) {
-    const int threads = o.threads > 0
-                            ? o.threads
-                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    l->kl->set_threads(threads);
-    return run_kl_static(o.model_file, m, *l->kl, outdir, out, err);
-  }
-  const auto& sys = *l->sys;
-  integrate::EnergyMomentumIntegrator integ(sys, m.solver);
-  const integrate::StaticEquilibrium equilibrium(sys, m.solver);
+  auto& sys = *l->sys;
+  sys.set_threads(o.threads > 0
+                      ? o.threads
+                      : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   std::vector<std::unique_ptr<integrate::Observer>> observers;
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
     observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
@@ -215,35 +235,28 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.model = o.model_file;
   sum.formulation = statics ? "static" : model::to_string(m.solver.formulation);
   sum.n_coordinates = sys.n();
-  sum.n_constraints = sys.m_selected();
-  sum.n_unknowns = statics ? equilibrium.unknowns() : integ.unknowns();
+  sum.n_constraints = sys.m_selected() +
+                      static_cast<int>(sys.linear_constraints().eliminated.size()) +
+                      sys.linear_constraints().multipliers();
   sum.n_redundant_constraints = static_cast<int>(sys.redundant_rows().size());
   sum.dt = m.solver.dt;
   sum.t_end = m.solver.t_end;
-  // Energy is conserved from t = 0 only without loads of any kind.
-  const bool conservative =
-      m.loads.empty() && m.distributed_loads.empty() && m.shell_loads.empty() && m.kl_loads.empty();
+  if (!sys.kl_patches().empty())
+    sum.threads = sys.kl_patches().front().element->patch().threads_used();
+  // Energy is conserved from t = 0 only by a dynamic run without loads of any kind.
+  const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
+                            m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
 
   const auto names = body_names(m);
-  auto state = statics ? equilibrium.initial_state() : integ.initial_state();
+  integrate::State state = integ.initial_state();
+  if (statics) state.v.setZero();
   auto snap = integ.snapshot(state, {}, names);
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
   for (auto& ob : observers) ob->on_snapshot(snap);
-  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-  const auto t0 = std::chrono::steady_clock::now();
-  int code = 0;
-  for (int i = 0; i < steps; ++i) {
-    integrate::StepStats st;
-    try {
-      st = statics ? equilibrium.step(state) : integ.step(state);
-    } catch (const integrate::NewtonFailure& e) {
-      sum.status = "failed";
-      sum.message = e.what();
-      code = 3;
-      break;
-    }
+  // After every step (time step or accepted load step): outputs and the summary's figures.
+  const auto record = [&](const integrate::StepStats& st) {
     snap = integ.snapshot(state, st, names);
     for (auto& ob : observers) ob->on_snapshot(snap);
     ++sum.steps;
@@ -254,6 +267,31 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       sum.max_energy_drift_after_loads = std::max(
           sum.max_energy_drift_after_loads, std::abs(snap.total_energy - sum.energy_initial) /
                                                 std::max(std::abs(sum.energy_initial), 1e-300));
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  int code = 0;
+  std::string linear;  // static runs: "linear" or "nonlinear"
+  try {
+    if (statics) {
+      integrate::StaticEquilibrium equilibrium(sys, m.solver);
+      sum.n_unknowns = equilibrium.unknowns();
+      sum.dt = m.solver.t_end / equilibrium.settings().steps;
+      linear = m.solver.linear ? "linear" : "nonlinear";
+      equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
+        state.q = x.head(sys.n());
+        state.t = st.t;
+        state.step = st.step;
+        record({st.iterations, st.residual, st.cuts + 1});
+      });
+    } else {
+      sum.n_unknowns = integ.unknowns();
+      const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
+      for (int i = 0; i < steps; ++i) record(integ.step(state));
+    }
+  } catch (const integrate::NewtonFailure& e) {
+    sum.status = "failed";
+    sum.message = e.what();
+    code = 3;
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (auto& ob : observers) ob->on_finish();
@@ -261,9 +299,21 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.probes = snap.probes;
   io::write_summary_json(outdir / "summary.json", sum);
   if (code != 0) {
-    fmt::print(err, "error: {}\n(results up to t = {:.6g} are in {})\n", sum.message, state.t,
+    fmt::print(err, "error: {}\n(results up to {}t = {:.6g}, are in {})\n", sum.message,
+               statics ? fmt::format("load step {}, ", snap.step) : std::string(), snap.t,
                outdir.string());
     return code;
+  }
+  if (statics) {
+    fmt::print(out,
+               "{}: {} load steps, {} unknowns (static, {}), {} Newton iterations, {:.3f} s; "
+               "potential energy {:.12g}; max |Phi| {:.2e}; results in {}\n",
+               o.model_file, sum.steps, sum.n_unknowns, linear, sum.newton_iterations_total,
+               sum.wall_time_s, sum.energy_final, sum.max_constraint_violation, outdir.string());
+    for (const auto& p : snap.probes)
+      fmt::print(out, "  probe {}: displacement ({:.10g}, {:.10g}, {:.10g})\n", p.name,
+                 p.displacement.x(), p.displacement.y(), p.displacement.z());
+    return 0;
   }
   fmt::print(out,
              "{}: {} steps, {} unknowns ({}), {} Newton iterations, {:.3f} s; energy {:.12g} -> "

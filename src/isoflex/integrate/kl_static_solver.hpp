@@ -14,11 +14,13 @@
 #include <vector>
 
 #include "isoflex/elements/kl_shell_patch.hpp"
-#include "isoflex/integrate/kl_boundary_conditions.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
 
 namespace isoflex::integrate {
+
+using system::KLBoundaryConditions;
 
 using loads::PatchLoads;
 

@@ -1,104 +1,120 @@
 #include "isoflex/integrate/static_equilibrium.hpp"
 
-#include <fmt/format.h>
-
+#include <algorithm>
 #include <cmath>
-
-#include "isoflex/integrate/newton_loop.hpp"
-#include "isoflex/solve/linear_solver.hpp"
+#include <utility>
 
 namespace isoflex::integrate {
 
 using system::SpMat;
 
-StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Solver& settings)
-    : sys_(sys), settings_(settings) {}
-
-State StaticEquilibrium::initial_state() const {
-  State s;
-  s.q = sys_.q0();
-  s.v = VecX::Zero(sys_.n());
-  return s;
+StaticSettings static_settings(const model::Solver& s) {
+  StaticSettings out;
+  out.t_end = s.t_end;
+  out.steps = std::max(1, static_cast<int>(std::lround(s.t_end / s.dt)));
+  out.adaptive = s.max_subdivisions > 0;
+  if (out.adaptive) out.max_cuts = s.max_subdivisions;
+  out.max_iterations = s.max_iterations;
+  out.residual_tolerance = s.residual_tolerance;
+  out.increment_tolerance = s.increment_tolerance;
+  return out;
 }
 
-VecX StaticEquilibrium::evaluate(double t, const VecX& x, SpMat* J) const {
-  const int n = sys_.n(), m = sys_.m_selected();
-  const VecX q = x.head(n), lambda = x.tail(m);
-  SpMat K;
-  // DV(q, q) − f_ext(q, t) = ∇V(q) − f_ext(q, t); K = ½ (∇²V − ∂f_ext/∂q) (see the header).
-  const VecX f = sys_.discrete_force(q, q, t, J ? &K : nullptr);
-  const SpMat G = sys_.jacobian(q);
-  VecX R(n + m);
-  R.head(n) = f + G.transpose() * lambda;  // DNSM-III (9) without M, at q instead of q_{n+½}
-  const VecX phi = sys_.constraints(q);
-  for (int i = 0; i < m; ++i) R(n + i) = phi(sys_.selected_rows()[i]);
-  if (J) {
-    const SpMat A = 2.0 * K + sys_.constraint_hessian(lambda);
-    system::Triplets tr;
-    tr.reserve(A.nonZeros() + 2 * G.nonZeros());
-    for (int c = 0; c < A.outerSize(); ++c)
-      for (SpMat::InnerIterator it(A, c); it; ++it) tr.emplace_back(it.row(), it.col(), it.value());
-    for (int c = 0; c < G.outerSize(); ++c)
-      for (SpMat::InnerIterator it(G, c); it; ++it) {
-        tr.emplace_back(n + it.row(), it.col(), it.value());
-        tr.emplace_back(it.col(), n + it.row(), it.value());
-      }
-    J->resize(n + m, n + m);
-    J->setFromTriplets(tr.begin(), tr.end());
+namespace {
+
+// Loads whose force depends on q (follower pressure, moments that turn with a director): their
+// tangent is not symmetric.
+bool has_follower_loads(const system::System& sys) {
+  for (const auto& L : sys.loads())
+    if (L.has_moment()) return true;
+  for (const auto& L : sys.director_loads())
+    if (L.has_moment()) return true;
+  for (const auto& P : sys.kl_patches())
+    for (const auto& L : P.loads)
+      if (L->follower()) return true;
+  return false;
+}
+
+// R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale.
+void evaluate(const system::System& sys, const VecX& x, double t, bool with_tangent,
+              ResidualEvaluation& out) {
+  const int n = sys.n(), m = sys.m_selected();
+  const VecX q = x.head(n);
+  double load_norm = 0.0;
+  if (m == 0) {  // K straight into out.K, whose storage is kept between calls
+    out.r = sys.static_force(q, t, with_tangent ? &out.K : nullptr, &load_norm);
+    out.load_norm = load_norm;
+    return;
   }
-  return R;
+  SpMat K;
+  const VecX f = sys.static_force(q, t, with_tangent ? &K : nullptr, &load_norm);
+  const VecX lambda = x.tail(m);
+  const SpMat G = sys.jacobian(q);
+  const VecX reactions = G.transpose() * lambda;
+  out.r.resize(n + m);
+  out.r.head(n) = f + reactions;
+  const VecX phi = sys.constraints(q);
+  for (int i = 0; i < m; ++i) out.r(n + i) = phi(sys.selected_rows()[i]);
+  out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
+  if (!with_tangent) return;
+  const SpMat A = K + sys.constraint_hessian(lambda);
+  system::Triplets tr;
+  tr.reserve(A.nonZeros() + 2 * G.nonZeros());
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (SpMat::InnerIterator it(A, c); it; ++it) tr.emplace_back(it.row(), it.col(), it.value());
+  for (int c = 0; c < G.outerSize(); ++c)
+    for (SpMat::InnerIterator it(G, c); it; ++it) {
+      tr.emplace_back(n + it.row(), it.col(), it.value());
+      tr.emplace_back(it.col(), n + it.row(), it.value());
+    }
+  out.K.resize(n + m, n + m);
+  out.K.setFromTriplets(tr.begin(), tr.end());
+}
+
+}  // namespace
+
+StaticProblem static_problem(const system::System& sys, bool linear) {
+  const int n = sys.n(), m = sys.m_selected();
+  const bool follower = has_follower_loads(sys);
+  // Patches alone: the patch's own kinematics decides whether R is affine.
+  const bool patches_only = m == 0 && sys.node_count(NodeKind::point) == sys.node_count();
+  StaticProblem pb;
+  pb.reference = VecX::Zero(n + m);
+  pb.reference.head(n) = sys.q0();
+  pb.configuration_size = n;
+  pb.symmetric = m == 0 && !follower;
+  pb.linear = linear && !(patches_only && follower);
+  const system::System* S = &sys;
+  if (!linear || patches_only) {
+    pb.evaluate = [S](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
+      evaluate(*S, x, t, with_tangent, out);
+    };
+    return pb;
+  }
+  // Geometrically linear: R(X, t) + J(X, t) (x − X), linearized at the unloaded reference.
+  const VecX X = pb.reference;
+  pb.evaluate = [S, X](const VecX& x, double t, bool, ResidualEvaluation& out) {
+    evaluate(*S, X, t, true, out);
+    out.r += out.K * (x - X);
+  };
+  return pb;
+}
+
+StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Solver& settings)
+    : sys_(sys),
+      linear_(settings.linear),
+      problem_(static_problem(sys, settings.linear)),
+      solver_(problem_, sys.linear_constraints(), static_settings(settings)) {}
+
+int StaticEquilibrium::unknowns() const {
+  return solver_.dofs().n_free() + multipliers();
 }
 
 VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
-  SpMat Js;
-  const VecX R = evaluate(t, x, J ? &Js : nullptr);
-  if (J) *J = MatX(Js);
-  return R;
-}
-
-// A load increment whose Newton iteration fails is retried as two halves from the last
-// equilibrium, at most max_subdivisions deep; only the end of the nominal increment is reported.
-StepStats StaticEquilibrium::step(State& s) const {
-  return whole_step(
-      s, [&](double dt) { return attempt(s, dt); }, settings_.dt, settings_.max_subdivisions);
-}
-
-StepStats StaticEquilibrium::attempt(State& s, double dt) const {
-  const int n = sys_.n(), m = sys_.m_selected();
-  const double t = s.t + dt;
-  if (settings_.linear) {
-    // Geometrically linear: one Newton correction from the unloaded reference (q₀, λ = 0), whose
-    // tangent is the small-displacement stiffness; the load enters linearly.
-    VecX x = VecX::Zero(n + m);
-    x.head(n) = sys_.q0();
-    SpMat J;
-    const VecX R = evaluate(t, x, &J);
-    x -= solve::solve(J, R);
-    s.q = x.head(n);
-    s.last_unknowns = x.tail(m);
-    s.t = t;
-    return {1, evaluate(t, x, nullptr).lpNorm<Eigen::Infinity>(), 1};
-  }
-  VecX x(n + m);
-  x.head(n) = s.q;
-  x.tail(m) = s.last_unknowns.size() == m ? s.last_unknowns : VecX::Zero(m);
-  const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-  SpMat J;
-  solve::FixedPatternLU lu;
-  // Residual scale: the forces that balance, ‖Gᵀλ‖∞.
-  const StepStats st = newton_loop(
-      x, settings_, qscale, fmt::format("load step {} (t = {:.6g})", s.step + 1, t),
-      [&](const VecX& y, bool matrix) { return evaluate(t, y, matrix ? &J : nullptr); },
-      [&](const VecX& R) { return lu.solve(J, -R); },
-      [&](const VecX& y) {
-        return std::max(
-            1.0, (sys_.jacobian(y.head(n)).transpose() * y.tail(m)).lpNorm<Eigen::Infinity>());
-      },
-      [&](const VecX& dx) { return dx.head(n).lpNorm<Eigen::Infinity>(); });
-  s.q = x.head(n);
-  s.last_unknowns = x.tail(m);
-  s.t = t;
-  return st;
+  ResidualEvaluation ev;
+  problem_.evaluate(x, t, J != nullptr, ev);
+  if (J) *J = MatX(ev.K);
+  return ev.r;
 }
 
 }  // namespace isoflex::integrate

@@ -1,42 +1,61 @@
 #pragma once
-// Static equilibrium with load stepping: the constrained formulation (DNSM-III (9)) with the mass
-// terms dropped. The time t of the load functions is read as a load parameter: step() solves
-//   R(q, λ) = [ ∇V(q) − f_ext(q, t) + G(q)ᵀ λ ;  Φ_sel(q) ] = 0,     unknowns (q, λ), n + m,
-// at t = tₙ + Δt, starting from the equilibrium at tₙ (q₀ at t = 0; v stays 0). Newton tangent
+// Static equilibrium of any System by load stepping: the one static solver (StaticNewtonSolver,
+// static_newton.hpp) on the System's static problem. The time t of the load functions is read as
+// a load parameter, and at each level the solver finds x = (q, λ) with
+//   R(x, t) = [ ∇V(q) − f_ext(q, t) + G(q)ᵀ λ ;  Φ_sel(q) ] = 0     (DNSM-III (9) without M)
+// with the Newton matrix
 //   J = [ ∇²V − ∂f_ext/∂q + Σ λᵢ Hᵢ ,  Gᵀ ;  G , 0 ]
-// with the constant constraint Hessians Hᵢ. Reuses the element kernels through
-// System::discrete_force at equal arguments: DV(q, q) = ∇V(q) (docs/theory/beam.md §4) and, since
-// DV(a, b) = DV(b, a) for the average-strain and the linear gravity discrete gradients,
-// ∂DV/∂qₙ₊₁(q, q) = ½ ∇²V; the loads enter as −f_ext(q_{n+½}) with the same factor ½ on
-// ∂f_ext/∂q. So J's upper-left block is 2 K + Σ λᵢ Hᵢ with K from discrete_force(q, q).
-// Convergence test and failure as in EnergyMomentumIntegrator::step (docs/theory/schemes.md §6);
-// the residual scale is max(1, ‖Gᵀλ‖∞), the size of the forces that balance. `formulation` and the
-// mass data are ignored.
-#include "isoflex/integrate/energy_momentum.hpp"
+// (the constant constraint Hessians Hᵢ; ∇V and ∇²V from each element's gradient_in_pattern,
+// elements/element.hpp). Φ_sel are the selected rows of System: the nodes' internal rows and the
+// joints. The System's linear conditions (linear_constraints(): a Kirchhoff–Love patch's
+// supports in a static analysis) are the solver's eliminated coordinates and multiplier rows.
+// A model of Kirchhoff–Love patches alone has no Φ_sel rows: then J = K, symmetric for dead
+// loads, and solved by sparse Cholesky (docs/theory/kl-static.md).
+//
+// Settings from model::Solver: load increment dt up to t_end (nominal levels k·dt); a failing
+// increment is halved, at most max_subdivisions times, and after easy steps the increment grows
+// back onto the nominal levels (static_newton.hpp); max_iterations and the tolerances. The
+// convergence scale is the size of the forces that balance: max(‖f_ext‖∞, ‖Gᵀλ‖∞, the reactions
+// of the linear conditions). `linear`: the geometrically linear problem, R linearized at the
+// unloaded reference (q₀, 0), one solve per load step; a patch with linear kinematics
+// (elements::KLKinematics::linear) is already affine and is evaluated as it is. `formulation` and
+// the mass data are ignored.
+#include <memory>
+
+#include "isoflex/integrate/energy_momentum.hpp"  // NewtonFailure
+#include "isoflex/integrate/static_newton.hpp"
+#include "isoflex/model/model.hpp"
+#include "isoflex/system/system.hpp"
 
 namespace isoflex::integrate {
+
+// The load-stepping settings of a model's solver entry.
+StaticSettings static_settings(const model::Solver& s);
+
+// R(x, t) and J of the header for a System, x = (q, λ_sel).
+StaticProblem static_problem(const system::System& sys, bool linear);
 
 class StaticEquilibrium {
  public:
   StaticEquilibrium(const system::System& sys, const model::Solver& settings);
 
-  int unknowns() const { return sys_.n() + sys_.m_selected(); }
-  // q₀, v = 0, t = 0: the unloaded reference configuration (an equilibrium when the loads vanish
-  // at t = 0 and there is no gravity).
-  State initial_state() const;
-  // Equilibrium at the load parameter s.t + Δt, Newton started from s.q and the last multipliers
-  // (kept in s.last_unknowns); an increment that fails is taken in halves, at most
-  // solver.max_subdivisions deep. Throws NewtonFailure (s unchanged) when that does not converge.
-  StepStats step(State& s) const;
-  // R(x) and J(x) at the load parameter t for x = (q, λ) (tests).
+  // Newton unknowns: free coordinates, multipliers of the linear conditions, selected rows.
+  int unknowns() const;
+  int eliminated() const { return static_cast<int>(sys_.linear_constraints().eliminated.size()); }
+  int multipliers() const { return sys_.linear_constraints().multipliers(); }
+  const StaticSettings& settings() const { return solver_.settings(); }
+  bool linear() const { return linear_; }
+  // The load stepping from (q₀, 0); observer(stats, x) after every accepted load step with
+  // x = (q, λ) (q = x.head(sys.n())). Throws NewtonFailure when a step fails for good.
+  StaticResult solve(const StaticObserver& observer = {}) { return solver_.solve(observer); }
+  // R(x, t) and (if J is not null) J(x, t) (tests).
   VecX residual(double t, const VecX& x, MatX* J) const;
 
  private:
-  VecX evaluate(double t, const VecX& x, system::SpMat* J) const;
-  StepStats attempt(State& s, double dt) const;  // one increment; s unchanged if it throws
-
   const system::System& sys_;
-  model::Solver settings_;
+  bool linear_;
+  StaticProblem problem_;
+  StaticNewtonSolver solver_;
 };
 
 }  // namespace isoflex::integrate

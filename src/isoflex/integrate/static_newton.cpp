@@ -32,39 +32,10 @@ struct NewtonOutcome {
   double residual = 0.0;
   double scale = 0.0;
   std::string reason;
+  double first_residual = 0.0, first_scale = 0.0;  // at the start of the step
 };
 
 }  // namespace
-
-void LinearConstraints::eliminate(int dof, std::function<double(double)> value) {
-  const auto it = std::lower_bound(eliminated.begin(), eliminated.end(), dof);
-  const auto pos = it - eliminated.begin();
-  if (eliminated_value.size() < eliminated.size()) eliminated_value.resize(eliminated.size());
-  if (it != eliminated.end() && *it == dof) {
-    eliminated_value[static_cast<std::size_t>(pos)] = std::move(value);
-    return;
-  }
-  eliminated.insert(it, dof);
-  eliminated_value.insert(eliminated_value.begin() + pos, std::move(value));
-}
-
-DofMap DofMap::build(int n_full, const std::vector<int>& eliminated) {
-  DofMap m;
-  m.n_full = n_full;
-  m.full_to_free.assign(static_cast<std::size_t>(n_full), 0);
-  for (int i : eliminated) {
-    if (i < 0 || i >= n_full)
-      throw std::invalid_argument(
-          fmt::format("DofMap: eliminated dof {} outside [0, {})", i, n_full));
-    m.full_to_free[static_cast<std::size_t>(i)] = -1;
-  }
-  for (int i = 0; i < n_full; ++i)
-    if (m.full_to_free[static_cast<std::size_t>(i)] == 0) {
-      m.full_to_free[static_cast<std::size_t>(i)] = static_cast<int>(m.free.size());
-      m.free.push_back(i);
-    }
-  return m;
-}
 
 struct StaticNewtonSolver::Impl {
   StaticProblem problem;
@@ -86,6 +57,12 @@ struct StaticNewtonSolver::Impl {
   int analyses_before = 0;
 
   ResidualEvaluation ev;
+  int nf_configuration = 0;  // free dofs among the configuration entries (the first ones)
+
+  // The configuration entries of a full x (problem.configuration_size).
+  Eigen::Ref<const VecX> configuration(const VecX& x) const {
+    return problem.configuration_size < 0 ? x.head(n) : x.head(problem.configuration_size);
+  }
 
   void set_prescribed(VecX& x, double t) const {
     for (std::size_t k = 0; k < cons.eliminated.size(); ++k) {
@@ -212,7 +189,8 @@ struct StaticNewtonSolver::Impl {
   NewtonOutcome newton(VecX& x, VecX& mu, double t, LoadStepStats& st) {
     NewtonOutcome out;
     set_prescribed(x, t);
-    const double xscale = std::max({inf_norm(x), inf_norm(problem.reference), 1e-300});
+    const double xscale =
+        std::max({inf_norm(configuration(x)), inf_norm(configuration(problem.reference)), 1e-300});
     const int max_it = problem.linear ? 1 : settings.max_iterations;
     double scale = 0.0;
     for (int it = 0;; ++it) {
@@ -238,8 +216,18 @@ struct StaticNewtonSolver::Impl {
       out.scale = scale;
       out.iterations = it;
       st.residual_history.push_back(out.residual);
-      if (!std::isfinite(out.residual)) {
-        out.reason = "non-finite residual";
+      if (it == 0) {
+        out.first_residual = out.residual;
+        out.first_scale = scale;
+      }
+      if (!std::isfinite(out.residual) ||
+          out.residual > 1e6 * std::max(out.first_residual, 1e-300)) {
+        // Diverged: the scale of the diverged iterate would hide it; report the start's.
+        out.reason = fmt::format(
+            "Newton diverged: the residual grew from {:.3e} to {:.3e} in {} "
+            "iterations",
+            out.first_residual, out.residual, it);
+        out.scale = out.first_scale;
         return out;
       }
       if (out.residual <= settings.residual_tolerance * scale || out.residual == 0.0 ||
@@ -272,7 +260,8 @@ struct StaticNewtonSolver::Impl {
       for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
       if (m > 0) mu += dz.tail(m);
       if (!problem.linear &&
-          inf_norm(dz.head(nf)) <= settings.increment_tolerance * std::max(xscale, inf_norm(x))) {
+          inf_norm(dz.head(nf_configuration)) <=
+              settings.increment_tolerance * std::max(xscale, inf_norm(configuration(x)))) {
         // Round-off-level correction: its error is its square; report the final residual.
         try {
           evaluate(x, t, false, st);
@@ -319,6 +308,14 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
     throw std::invalid_argument("LinearConstraints: eliminated dofs not sorted and unique");
   I.dofs = DofMap::build(I.n, I.cons.eliminated);
   I.nf = I.dofs.n_free();
+  if (I.problem.configuration_size > I.n)
+    throw std::invalid_argument("StaticProblem: configuration_size larger than x");
+  I.nf_configuration =
+      I.problem.configuration_size < 0
+          ? I.nf
+          : static_cast<int>(std::lower_bound(I.dofs.free.begin(), I.dofs.free.end(),
+                                              I.problem.configuration_size) -
+                             I.dofs.free.begin());
   if (I.cons.C.rows() == 0) I.cons.C.resize(0, I.n);
   if (I.cons.C.cols() != I.n)
     throw std::invalid_argument(

@@ -19,9 +19,11 @@
 // ≤ easy_iterations iterations it is doubled
 // again (never beyond the nominal increment). Convergence per step (as integrate/newton_loop.hpp):
 // ‖R‖∞ ≤ residual_tolerance · scale with scale = max(force_floor, ‖f_ext‖∞, ‖reactions‖∞), or a
-// correction ‖Δx‖∞ ≤ increment_tolerance · max(‖x‖∞, ‖X‖∞) (a round-off-level step).
+// correction ‖Δx‖∞ ≤ increment_tolerance · max(‖x‖∞, ‖X‖∞) over the configuration entries of x
+// (a round-off-level step).
 // Failure: integrate::NewtonFailure naming the load step, the load factor tried and the one
-// reached, the iterations and the residual reached.
+// reached, the iterations and the residual reached; a residual that grew by six orders of
+// magnitude (or overflowed) is reported as diverged, with the scale at the start of the step.
 #include <Eigen/SparseCore>
 #include <functional>
 #include <memory>
@@ -29,6 +31,7 @@
 #include <vector>
 
 #include "isoflex/math/types.hpp"
+#include "isoflex/system/linear_constraints.hpp"
 
 namespace isoflex::integrate {
 
@@ -51,33 +54,13 @@ struct StaticProblem {
   bool symmetric = true;
   // r is affine in x (linear kinematics, dead loads): one solve per load step, no iteration.
   bool linear = false;
+  // The leading entries of x that are configuration (the rest: multipliers of the problem's own
+  // constraint rows, in force units); the correction test measures those only. −1: all of x.
+  int configuration_size = -1;
 };
 
-// Dirichlet conditions on the full dofs: eliminated dofs and multiplier rows.
-struct LinearConstraints {
-  // Eliminated dofs, sorted and unique, and their prescribed displacements ū_i(t) (same length;
-  // an empty function means 0, the homogeneous condition).
-  std::vector<int> eliminated;
-  std::vector<std::function<double(double)>> eliminated_value;
-  // Multiplier rows C (x − X) = d(t): C is m × n (constant), d(t) ∈ R^m (empty function: 0).
-  SpMat C;
-  std::function<VecX(double)> rhs;
-  // Labels of the multiplier rows (for messages), optional.
-  std::vector<std::string> row_labels;
-
-  int multipliers() const { return static_cast<int>(C.rows()); }
-  // Adds an eliminated dof (keeps the list sorted; a dof already eliminated is replaced).
-  void eliminate(int dof, std::function<double(double)> value = {});
-};
-
-// Full ↔ reduced dofs.
-struct DofMap {
-  int n_full = 0;
-  std::vector<int> free;          // free full indices, ascending
-  std::vector<int> full_to_free;  // −1 for eliminated dofs
-  static DofMap build(int n_full, const std::vector<int>& eliminated);
-  int n_free() const { return static_cast<int>(free.size()); }
-};
+using system::DofMap;
+using system::LinearConstraints;
 
 struct StaticSettings {
   double t_end = 1.0;

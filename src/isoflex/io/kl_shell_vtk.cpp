@@ -85,23 +85,4 @@ std::string kl_shell_vtu(const elements::KLShellPatch& patch, elements::KLKinema
   return nurbs_tessellated_vtu(deformed, n_per_span, fields);
 }
 
-std::string kl_shell_vtu(const integrate::KLShellAnalysis& a, const VecX& x, int n_per_span) {
-  return kl_shell_vtu(a.patch(), a.kinematics(), x, n_per_span);
-}
-
-KLShellVtkWriter::KLShellVtkWriter(const std::filesystem::path& outdir,
-                                   const integrate::KLShellAnalysis& a, int every, int n_per_span)
-    : outdir_(outdir), a_(a), every_(every), n_per_span_(n_per_span) {}
-
-void KLShellVtkWriter::write(int step, double t, const VecX& x, bool last) {
-  if (every_ <= 0 || step == last_written_) return;
-  if (step % every_ != 0 && !last) return;
-  const std::string name = fmt::format("vtk/step_{:06d}.vtu", step);
-  write_file_atomic(outdir_ / name, kl_shell_vtu(a_, x, n_per_span_));
-  last_written_ = step;
-  fmt::format_to(std::back_inserter(pvd_entries_),
-                 "    <DataSet timestep=\"{:.17g}\" part=\"0\" file=\"{}\"/>\n", t, name);
-  write_file_atomic(outdir_ / "results.pvd", pvd_collection(pvd_entries_));
-}
-
 }  // namespace isoflex::io

@@ -99,4 +99,52 @@ loads::PatchLoads kl_patch_loads(const model::Model& m, const model::KLShell& s)
   return out;
 }
 
+namespace {
+
+unsigned mask(const std::array<bool, 3>& c) {
+  return (c[0] ? kCompX : 0u) | (c[1] ? kCompY : 0u) | (c[2] ? kCompZ : 0u);
+}
+
+}  // namespace
+
+KLBoundaryConditions kl_boundary_conditions(
+    const model::Model& m, const geometry::NurbsSurface& g,
+    const std::function<bool(const model::KLSupport&)>& which) {
+  KLBoundaryConditions bcs(g);
+  for (std::size_t k = 0; k < m.kl_supports.size(); ++k) {
+    const model::KLSupport& sup = m.kl_supports[k];
+    if (!which(sup)) continue;
+    try {
+      if (sup.edge.empty()) {
+        for (int cp : sup.control_points) bcs.fix_control_point(cp, mask(sup.components));
+        continue;
+      }
+      const loads::PatchEdge e = loads::patch_edge_from_string(sup.edge);
+      switch (sup.kind) {
+        case model::KLSupportKind::fixed:
+          bcs.fix_edge(e, mask(sup.components));
+          break;
+        case model::KLSupportKind::clamped:
+          bcs.clamp_edge(e, mask(sup.components));
+          break;
+        case model::KLSupportKind::symmetry:
+          bcs.symmetry_edge(e, sup.normal);
+          break;
+        case model::KLSupportKind::displacement: {
+          auto f = std::make_shared<std::array<loads::TimeFunction, 3>>(
+              std::array<loads::TimeFunction, 3>{loads::TimeFunction(sup.displacement[0]),
+                                                 loads::TimeFunction(sup.displacement[1]),
+                                                 loads::TimeFunction(sup.displacement[2])});
+          bcs.prescribe_edge(
+              e, [f](double t, const Vec3&) { return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t)); });
+          break;
+        }
+      }
+    } catch (const std::invalid_argument& e) {
+      compile_fail(sup.source, fmt::format("kl_supports[{}]", k), e.what());
+    }
+  }
+  return bcs;
+}
+
 }  // namespace isoflex::system

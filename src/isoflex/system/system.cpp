@@ -108,6 +108,17 @@ void System::add_kl_patches(const model::Model& m) {
   kl_patches_.push_back(std::move(inst));
 }
 
+void System::set_threads(int threads) {
+  for (KLPatchInstance& P : kl_patches_) {
+    auto patch = std::make_shared<elements::KLShellPatch>(P.element->patch());  // shares the data
+    patch->set_threads(threads);
+    auto element = std::make_unique<elements::KLPatchElement>(std::move(patch),
+                                                              P.element->kinematics(), P.nodes);
+    P.element = element.get();
+    elements_[static_cast<std::size_t>(P.element_index)] = std::move(element);
+  }
+}
+
 ProbeInstance System::kl_probe(const model::Probe& P) const {
   const auto patch = std::find_if(kl_patches_.begin(), kl_patches_.end(),
                                   [&](const KLPatchInstance& k) { return k.name == P.kl_shell; });

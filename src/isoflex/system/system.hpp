@@ -38,6 +38,7 @@
 #include "isoflex/model/model.hpp"
 #include "isoflex/system/compile_error.hpp"
 #include "isoflex/system/global_matrix.hpp"
+#include "isoflex/system/linear_constraints.hpp"
 
 namespace isoflex::system {
 
@@ -186,6 +187,12 @@ class System {
   // The probe's material point in q (its velocity: the same map applied to v).
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
   const std::vector<KLPatchInstance>& kl_patches() const { return kl_patches_; }
+  // Linear conditions on q handled by the static solver (eliminated coordinates and multiplier
+  // rows: the Kirchhoff–Love supports to the ground of a static analysis), not in constraints().
+  const LinearConstraints& linear_constraints() const { return linear_; }
+  // Threads of the Kirchhoff–Love patch assembly (elements::KLShellPatch::set_threads; results do
+  // not depend on it).
+  void set_threads(int threads);
   // The fixed pattern of discrete_force's K.
   const GlobalMatrix& stiffness_pattern() const { return stiffness_; }
   const std::vector<BeamInstance>& beams() const { return beams_; }
@@ -234,6 +241,7 @@ class System {
   void add_joint_edges(Build& build);
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);
+  void add_linear_constraints(const LinearConstraints& local, const std::vector<int>& nodes);
   void build_forest(Build& build);
   std::shared_ptr<const joints::Joint> model_joint(const Build& build, std::size_t j, int parent,
                                                    int child, bool rev) const;
@@ -264,6 +272,7 @@ class System {
   std::vector<loads::DirectorNodeLoad> director_loads_;
   std::vector<ShellInstance> shells_;
   std::vector<KLPatchInstance> kl_patches_;
+  LinearConstraints linear_;
   // discrete_force's K: the fixed pattern and the part of each element and load.
   GlobalMatrix stiffness_;
   std::vector<int> element_part_, load_part_, director_load_part_;

@@ -14,6 +14,7 @@
 #include "isoflex/loads/patch_edge.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::system {
@@ -450,22 +451,34 @@ void System::add_shell_supports(Build& build) {
   }
 }
 
-// Kirchhoff–Love supports: the control points of the supported rows (fixed: the edge or the
-// listed points; clamped: rows 0 and 1, which carry the slope across the edge) rigidly attached
-// to a body or the ground (joints/point_joints.hpp). Attaching row 1 also holds the stretch
-// across a clamped edge, unlike the static clamp (docs/theory/kl-static.md §2).
+// Kirchhoff–Love supports. In a static analysis a support to the ground is a linear condition
+// on the control points (system/kl_boundary_conditions.hpp, docs/theory/kl-static.md §2):
+// eliminated components and multiplier rows, every kind. Otherwise the control points of the
+// supported rows (fixed: the edge or the listed points; clamped: rows 0 and 1, which carry the
+// slope across the edge) are rigidly attached to a body or the ground (joints/point_joints.hpp);
+// attaching row 1 also holds the stretch across a clamped edge, unlike the static clamp.
 void System::add_kl_supports(Build& build) {
   const model::Model& model = build.model;
+  const bool statics = model.solver.analysis == model::Analysis::statics;
+  if (statics && !kl_patches_.empty()) {
+    const KLPatchInstance& P = kl_patches_.front();  // one patch per model for now
+    const KLBoundaryConditions bcs =
+        kl_boundary_conditions(model, P.element->patch().reference(),
+                               [](const model::KLSupport& S) { return S.body.empty(); });
+    add_linear_constraints(bcs.constraints(), P.nodes);
+  }
   for (std::size_t k = 0; k < model.kl_supports.size(); ++k) {
     const auto& S = model.kl_supports[k];
+    if (statics && S.body.empty()) continue;
     const std::string what = fmt::format("kl_supports[{}]", k);
     using K = model::KLSupportKind;
     if (!(S.components[0] && S.components[1] && S.components[2]) ||
         (S.kind != K::fixed && S.kind != K::clamped))
       fail(S.source, what,
-           "in a dynamic run a Kirchhoff–Love support holds all components, fixed or clamped, to "
-           "the ground or a body; symmetry, prescribed displacements and single components act "
-           "in static analyses only for now (solver.analysis: static)");
+           "in a dynamic run a Kirchhoff–Love support (and in a static one a support to a body) "
+           "holds all components, fixed or clamped; symmetry, prescribed displacements and "
+           "single components act on supports to the ground in static analyses only for now "
+           "(solver.analysis: static)");
     const KLPatchInstance& P = kl_patches_.front();  // the reader checked the shell's name
     const geometry::NurbsSurface& g = P.element->patch().reference();
     std::vector<int> cps = S.control_points;
@@ -739,6 +752,41 @@ void System::set_initial_velocities(const model::Model& model) {
     tree_factors(q0_, L, B, Pint);
     v0_ = Pint * solve::solve(L, B * nu0);
   }
+}
+
+// Conditions on the stacked coordinates of `nodes` (point nodes, 3 each) as conditions on q.
+void System::add_linear_constraints(const LinearConstraints& local, const std::vector<int>& nodes) {
+  auto global = [&](int i) { return q_offset(nodes[static_cast<std::size_t>(i / 3)]) + i % 3; };
+  for (std::size_t k = 0; k < local.eliminated.size(); ++k)
+    linear_.eliminate(global(local.eliminated[k]),
+                      k < local.eliminated_value.size() ? local.eliminated_value[k] : nullptr);
+  if (local.multipliers() == 0) return;
+  Triplets t;
+  const int m0 = linear_.multipliers();
+  for (int j = 0; j < local.C.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(local.C, j); it; ++it)
+      t.emplace_back(m0 + static_cast<int>(it.row()), global(static_cast<int>(it.col())),
+                     it.value());
+  for (int j = 0; j < linear_.C.outerSize(); ++j)
+    for (SpMat::InnerIterator it(linear_.C, j); it; ++it)
+      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+  linear_.C.resize(m0 + local.multipliers(), n());
+  linear_.C.setFromTriplets(t.begin(), t.end());
+  linear_.C.makeCompressed();
+  const auto before = linear_.rhs;
+  const auto added = local.rhs;
+  const int m1 = local.multipliers();
+  linear_.rhs = [before, added, m0, m1](double t) {
+    VecX d = VecX::Zero(m0 + m1);
+    if (before) d.head(m0) = before(t);
+    if (added) d.tail(m1) = added(t);
+    return d;
+  };
+  linear_.row_labels.resize(static_cast<std::size_t>(m0));
+  for (int r = 0; r < m1; ++r)
+    linear_.row_labels.push_back(static_cast<std::size_t>(r) < local.row_labels.size()
+                                     ? local.row_labels[static_cast<std::size_t>(r)]
+                                     : std::string());
 }
 
 }  // namespace isoflex::system

@@ -1,4 +1,4 @@
-// Dirichlet conditions of a KL shell patch (integrate/kl_boundary_conditions.hpp): which control
+// Dirichlet conditions of a KL shell patch (system/kl_boundary_conditions.hpp): which control
 // point components are eliminated, the reduced dof map, the multiplier rows of symmetry planes
 // and of weakly prescribed edges.
 #include <gtest/gtest.h>
@@ -11,10 +11,10 @@
 
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_boundary_conditions.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 
 using namespace isoflex;
-using namespace isoflex::integrate;
+using namespace isoflex::system;
 
 namespace {
 

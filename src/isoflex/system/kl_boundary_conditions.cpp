@@ -1,4 +1,4 @@
-#include "isoflex/integrate/kl_boundary_conditions.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 #include "isoflex/geometry/quadrature.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
-namespace isoflex::integrate {
+namespace isoflex::system {
 
 namespace {
 
@@ -274,4 +274,4 @@ LinearConstraints KLBoundaryConditions::constraints() const {
   return out;
 }
 
-}  // namespace isoflex::integrate
+}  // namespace isoflex::system

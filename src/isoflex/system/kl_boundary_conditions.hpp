@@ -39,11 +39,11 @@
 #include <vector>
 
 #include "isoflex/geometry/nurbs_surface.hpp"
-#include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/patch_edge.hpp"
 #include "isoflex/math/types.hpp"
+#include "isoflex/system/linear_constraints.hpp"
 
-namespace isoflex::integrate {
+namespace isoflex::system {
 
 using loads::PatchEdge;
 
@@ -104,4 +104,4 @@ class KLBoundaryConditions {
   std::vector<WeakEdge> weak_;
 };
 
-}  // namespace isoflex::integrate
+}  // namespace isoflex::system
