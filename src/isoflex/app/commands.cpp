@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "isoflex/app/progress.hpp"
@@ -220,7 +221,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sys.set_threads(o.threads > 0
                       ? o.threads
                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+  // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
+  // statics).
+  std::optional<integrate::EnergyMomentumIntegrator> integ;
+  if (!statics) integ.emplace(sys, m.solver);
   std::vector<std::unique_ptr<integrate::Observer>> observers;
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
     observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
@@ -249,15 +253,16 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
 
   const auto names = body_names(m);
-  integrate::State state = integ.initial_state();
-  if (statics) state.v.setZero();
-  auto snap = integ.snapshot(state, {}, names);
+  integrate::State state;
+  state.q = sys.q0();
+  state.v = statics ? VecX::Zero(sys.n()) : sys.v0();
+  auto snap = integrate::snapshot(sys, state, {}, names);
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
   for (auto& ob : observers) ob->on_snapshot(snap);
   // After every step (time step or accepted load step): outputs and the summary's figures.
   const auto record = [&](const integrate::StepStats& st) {
-    snap = integ.snapshot(state, st, names);
+    snap = integrate::snapshot(sys, state, st, names);
     for (auto& ob : observers) ob->on_snapshot(snap);
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
@@ -284,9 +289,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
         record({st.iterations, st.residual, st.cuts + 1});
       });
     } else {
-      sum.n_unknowns = integ.unknowns();
+      sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-      for (int i = 0; i < steps; ++i) record(integ.step(state));
+      for (int i = 0; i < steps; ++i) record(integ->step(state));
     }
   } catch (const integrate::NewtonFailure& e) {
     sum.status = "failed";

@@ -379,6 +379,11 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
 
 Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
                                             const std::vector<std::string>& body_names) const {
+  return integrate::snapshot(sys_, s, st, body_names);
+}
+
+Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& st,
+                  const std::vector<std::string>& body_names) {
   Snapshot out;
   out.step = s.step;
   out.t = s.t;

@@ -83,8 +83,9 @@ class EnergyMomentumIntegrator {
   }
   VecX residual(const State& s, const VecX& x, MatX* J) const;
 
-  Snapshot snapshot(const State& s, const StepStats& st,
-                    const std::vector<std::string>& body_names) const;
+  Snapshot snapshot(
+      const State& s, const StepStats& st,
+      const std::vector<std::string>& body_names) const;  // integrate::snapshot(system, …)
 
  private:
   struct StepContext;
@@ -126,5 +127,10 @@ class EnergyMomentumIntegrator {
   std::optional<system::TreeNewtonSolver> tree_;
   std::optional<ReducedNewtonMatrix> blocks_;
 };
+
+// The Snapshot of state s of sys (energies, momenta, max |Φ|, node poses, probes, resultants,
+// patches) with the step's Newton figures; body_names name the first nodes.
+Snapshot snapshot(const system::System& sys, const State& s, const StepStats& st,
+                  const std::vector<std::string>& body_names);
 
 }  // namespace isoflex::integrate

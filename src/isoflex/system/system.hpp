@@ -136,7 +136,7 @@ class System {
   // Initial state.
   const VecX& q0() const { return q0_; }
   const VecX& v0() const { return v0_; }
-  const SpMat& mass() const { return M_; }
+  const SpMat& mass() const { return M_; }  // zero (no entries) in a static analysis
 
   // Potential energy (conservative: gravity, elastic).
   double potential(const VecX& q) const;

@@ -101,7 +101,12 @@ System System::compile(const model::Model& model) {
   s.add_shells(build);
   s.add_kl_patches(model);
   s.finish_nodes(build);
-  s.assemble_mass();
+  // A static analysis has no inertia: its mass matrix stays empty (zero), saving the patch mass
+  // (as large as the stiffness) and its quadrature.
+  if (model.solver.analysis == model::Analysis::statics)
+    s.M_.resize(s.n(), s.n());
+  else
+    s.assemble_mass();
   s.add_body_loads(build);
   s.add_distributed_loads(build);
   s.add_shell_loads(build);
