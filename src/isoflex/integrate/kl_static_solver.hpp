@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "isoflex/elements/kl_shell_patch.hpp"
-#include "isoflex/system/kl_boundary_conditions.hpp"
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 
 namespace isoflex::integrate {
 
