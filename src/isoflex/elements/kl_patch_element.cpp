@@ -20,11 +20,11 @@ double KLPatchElement::potential(const VecX& q) const {
 }
 
 VecX KLPatchElement::gradient(const VecX& q) const {
-  return patch_->internal_force(q, kinematics_, nullptr);
+  return patch_->internal_force_into(q, kinematics_, nullptr);
 }
 
 VecX KLPatchElement::discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const {
-  if (!dv_dqn1) return patch_->discrete_gradient(qn, qn1, kinematics_, nullptr);
+  if (!dv_dqn1) return patch_->discrete_gradient_into(qn, qn1, kinematics_, nullptr);
   SpMat K;
   const VecX dv = patch_->discrete_gradient(qn, qn1, kinematics_, &K);
   *dv_dqn1 = MatX(K);
@@ -33,19 +33,11 @@ VecX KLPatchElement::discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv
 
 VecX KLPatchElement::discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1,
                                                   double* values) const {
-  if (!values) return patch_->discrete_gradient(qn, qn1, kinematics_, nullptr);
-  SpMat K = patch_->pattern();
-  const VecX dv = patch_->discrete_gradient(qn, qn1, kinematics_, &K);
-  std::copy(K.valuePtr(), K.valuePtr() + K.nonZeros(), values);
-  return dv;
+  return patch_->discrete_gradient_into(qn, qn1, kinematics_, values);
 }
 
 VecX KLPatchElement::gradient_in_pattern(const VecX& q, double* values) const {
-  if (!values) return patch_->internal_force(q, kinematics_, nullptr);
-  SpMat K = patch_->pattern();
-  const VecX r = patch_->internal_force(q, kinematics_, &K);
-  std::copy(K.valuePtr(), K.valuePtr() + K.nonZeros(), values);
-  return r;
+  return patch_->internal_force_into(q, kinematics_, values);
 }
 
 MatX KLPatchElement::mass() const {

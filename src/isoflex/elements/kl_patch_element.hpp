@@ -20,6 +20,7 @@ class KLPatchElement final : public Element {
                  std::vector<int> nodes);
 
   const KLShellPatch& patch() const { return *patch_; }
+  const std::shared_ptr<const KLShellPatch>& shared_patch() const { return patch_; }
   KLKinematics kinematics() const { return kinematics_; }
 
   const std::vector<int>& nodes() const override { return nodes_; }

@@ -97,27 +97,31 @@ struct Work {
 
 VecX KLShellPatch::discrete_gradient(const VecX& xn, const VecX& xn1, KLKinematics kin,
                                      SpMat* K) const {
+  if (!K) return discrete_gradient_into(xn, xn1, kin, nullptr);
+  impl_->adopt_pattern(*K);
+  return discrete_gradient_into(xn, xn1, kin, K->valuePtr());
+}
+
+VecX KLShellPatch::discrete_gradient_into(const VecX& xn, const VecX& xn1, KLKinematics kin,
+                                          double* values) const {
   const Impl& m = *impl_;
   m.check_size(xn, "discrete_gradient");
   m.check_size(xn1, "discrete_gradient");
   if (kin == KLKinematics::linear) {
     // Π_lin = ½ uᵀ K_lin u is quadratic: Π(x₁) − Π(x₀) = r(x_{n+½})·Δx exactly, ∂/∂x₁ = ½ K_lin.
-    VecX r = internal_force(0.5 * (xn + xn1), kin, K);
-    if (K) std::for_each(K->valuePtr(), K->valuePtr() + K->nonZeros(), [](double& v) { v *= 0.5; });
+    VecX r = internal_force_into(0.5 * (xn + xn1), kin, values);
+    if (values) std::for_each(values, values + m.pattern.nonZeros(), [](double& v) { v *= 0.5; });
     return r;
   }
   const double t = m.sec.thickness, tb = t * t * t / 12.0;
   const int nf = m.n_fun;
   VecX r = VecX::Zero(xn.size());
-  if (K) {
-    m.adopt_pattern(*K);
-    std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
-  }
+  if (values) std::fill_n(values, m.pattern.nonZeros(), 0.0);
   const int workers = m.workers(threads_);
   std::vector<Work> work(static_cast<std::size_t>(workers));
   for (Work& w : work) {
     w.re.resize(3 * nf);
-    if (!K) continue;
+    if (!values) continue;
     w.grow.resize(3 * nf);
     w.Tg.resize(static_cast<std::size_t>(m.n_qp));
     w.Rho.resize(kl::kDerivatives * m.n_qp, nf);
@@ -153,7 +157,7 @@ VecX KLShellPatch::discrete_gradient(const VecX& xn, const VecX& xn1, KLKinemati
     const bool correct = d > kSize2 * wk.p.squaredNorm() + kMotion2 * wk.dx.squaredNorm();
     double Gamma = 0.0;  // Σ_g dA Σ_i c_i m̄_i: the correction is Γ w
     wk.re.setZero();
-    if (K) wk.grow.setZero();
+    if (values) wk.grow.setZero();
     for (int g = 0; g < m.n_qp; ++g) {
       const kl::BasisView R = Impl::view(wk.eb, g);
       const kl::ReferencePoint& ref = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
@@ -182,7 +186,7 @@ VecX KLShellPatch::discrete_gradient(const VecX& xn, const VecX& xn1, KLKinemati
         c = bending_defect(cm, du) / d;
         Gamma += ref.dA * c.dot(sb.m);
       }
-      if (!K) continue;
+      if (!values) continue;
       // ∂/∂x₁ of ∇E(x_{n+½})ᵀ S̄: ½ (Σ S̄_i ∇²E_i)(x_{n+½}) + ∇E(x_{n+½})ᵀ D ½ ∇E(x₁).
       const kl::NormalFactors nf1 = kl::normal_factors(c1);
       kl::StrainOperator E1;
@@ -212,7 +216,7 @@ VecX KLShellPatch::discrete_gradient(const VecX& xn, const VecX& xn1, KLKinemati
       for (int k = 0; k < nf; ++k) wk.re.segment<3>(3 * k) += Gamma * wk.w.col(k);
     }
     for (int k = 0; k < nf; ++k) r.segment<3>(3 * cn[k]) += wk.re.segment<3>(3 * k);
-    if (!K) return;
+    if (!values) return;
     kl::element_tangent_full(wk.Tg.data(), m.n_qp, wk.Rho, wk.W, wk.Ke);
     MatX& Ke = wk.Ke;  // block (k, l) = ∂DV_k/∂x₁_l, column-major in rows 9l … 9l + 8 of column k
     if (correct) {
@@ -241,7 +245,7 @@ VecX KLShellPatch::discrete_gradient(const VecX& xn, const VecX& xn1, KLKinemati
                   Gamma * dW(3 * k + i, 3 * l + cc) + wv(3 * k + i) * wk.grow(3 * l + cc);
     }
     // Scatter every block (the matrix is not symmetric) by the precomputed positions.
-    double* val = K->valuePtr();
+    double* val = values;
     for (int l = 0; l < nf; ++l) {
       const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * nf + l) * nf;
       const int stride = m.col_nnz[cn[l]];

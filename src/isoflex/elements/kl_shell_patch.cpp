@@ -283,6 +283,12 @@ void KLShellPatch::Impl::adopt_pattern(SpMat& K) const {
 }
 
 VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) const {
+  if (!K) return internal_force_into(x, kin, nullptr);
+  impl_->adopt_pattern(*K);
+  return internal_force_into(x, kin, K->valuePtr());
+}
+
+VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* values) const {
   const Impl& m = *impl_;
   m.check_size(x, "internal_force");
   const double t = m.sec.thickness, tb = t * t * t / 12.0;
@@ -290,18 +296,16 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
   const int nf = m.n_fun;
   const VecX X = linear ? m.reference_positions() : VecX();
   VecX r = VecX::Zero(x.size());
-  bool tangent = K != nullptr;  // false: K is the cached linear tangent
-  if (K) {
-    m.adopt_pattern(*K);
-    if (linear) {
-      const std::lock_guard<std::mutex> lock(m.linear_mutex);
-      if (!m.linear_values.empty()) {
-        std::copy(m.linear_values.begin(), m.linear_values.end(), K->valuePtr());
-        tangent = false;
-      }
+  const Eigen::Index nnz = m.pattern.nonZeros();
+  bool tangent = values != nullptr;  // false: the values are the cached linear tangent
+  if (values && linear) {
+    const std::lock_guard<std::mutex> lock(m.linear_mutex);
+    if (!m.linear_values.empty()) {
+      std::copy(m.linear_values.begin(), m.linear_values.end(), values);
+      tangent = false;
     }
   }
-  if (tangent) std::fill_n(K->valuePtr(), K->nonZeros(), 0.0);
+  if (tangent) std::fill_n(values, nnz, 0.0);
   // One work space per thread, allocated once per call: the point factors T^g of one element,
   // the basis derivatives ρ^g(k) (5G × n), the scratch W and the element blocks K_kl
   // (kl-shell.md §5).
@@ -381,7 +385,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
       const MatX& Ke = w.Ke;
       // Scatter by the precomputed positions; Ke holds the upper block triangle (k ≤ l), block
       // (k, l) column-major in rows 9l … 9l + 8 of column k.
-      double* val = K->valuePtr();
+      double* val = values;
       for (int l = 0; l < nf; ++l) {
         const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * nf + l) * nf;
         const int stride = m.col_nnz[c[l]];
@@ -403,7 +407,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
   });
   if (tangent && linear) {
     const std::lock_guard<std::mutex> lock(m.linear_mutex);
-    m.linear_values.assign(K->valuePtr(), K->valuePtr() + K->nonZeros());
+    m.linear_values.assign(values, values + nnz);
   }
   return r;
 }

@@ -82,6 +82,9 @@ class KLShellPatch {
   // pattern is the same on every call, compressed). A K that already has the pattern (same size,
   // compressed, same outer index) keeps its storage; any other K is replaced by a copy of it.
   VecX internal_force(const VecX& x, KLKinematics kin, SpMat* K) const;
+  // The same with the tangent's values written straight into `values` (pattern().nonZeros()
+  // entries, pattern()'s storage order, overwritten; nullptr: no tangent): no copy of the pattern.
+  VecX internal_force_into(const VecX& x, KLKinematics kin, double* values) const;
   // Discrete gradient DV(xₙ, xₙ₊₁) of the internal energy Π_int (3.22) for the energy–momentum
   // schemes: DV·(xₙ₊₁ − xₙ) = Π(xₙ₊₁) − Π(xₙ) to round-off, DV = ∇Π(x_{n+½}) + O(|Δx|²), and DV is
   // orthogonal to the rigid motions at the midpoint (Σ_A DV_A = 0, Σ_A x_{n+½,A} × DV_A = 0), so
@@ -93,6 +96,9 @@ class KLShellPatch {
   // (Π is quadratic; only Σ_A DV_A = 0 holds there, the linearized strains are not invariant
   // under finite rotations). Throws like internal_force for a wrong size or non-finite entries.
   VecX discrete_gradient(const VecX& xn, const VecX& xn1, KLKinematics kin, SpMat* K) const;
+  // The same with ∂DV/∂xₙ₊₁ written straight into `values` (as internal_force's).
+  VecX discrete_gradient_into(const VecX& xn, const VecX& xn1, KLKinematics kin,
+                              double* values) const;
   // Threads of internal_force and discrete_gradient (1 by default; fewer than asked on small
   // patches, ~2000 quadrature points per thread at least). The elements run in coloured blocks in a
   // fixed order (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of

@@ -37,7 +37,12 @@ Vec3 to_frame(const Eigen::Matrix2d& T, const Vec3& s) {
 
 KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinematics kin) const {
   const Impl& m = *impl_;
-  m.check_size(x, "stress");
+  // The size only: a writer recovers the stress at many points, and a check of all of x at each
+  // would make its cost quadratic; the control points used are checked below.
+  if (x.size() != 3 * static_cast<Eigen::Index>(m.ref.points.size()))
+    throw std::invalid_argument("KLShellPatch: stress: x has " + std::to_string(x.size()) +
+                                " entries, expected " + std::to_string(3 * m.ref.points.size()) +
+                                " (3 per control point)");
   const auto& s = m.ref;
   if (!(xi >= s.u.front() && xi <= s.u.back() && eta >= s.v.front() && eta <= s.v.back()))
     throw std::invalid_argument("KLShellPatch: stress: (xi, eta) = (" + exact_text(xi) + ", " +
@@ -51,6 +56,7 @@ KLShellStress KLShellPatch::stress(const VecX& x, double xi, double eta, KLKinem
     xl.col(k) = x.segment<3>(3 * A);
     Xl.col(k) = s.points[A];
   }
+  if (!xl.allFinite()) throw std::invalid_argument("KLShellPatch: stress: x is not finite");
   const kl::ReferencePoint ref = kl::reference_point(R, Xl, 0.0, m.sec.young, m.sec.poisson);
   if (!(ref.J0 > 0.0))
     throw std::invalid_argument("KLShellPatch: stress: degenerate reference geometry at (" +

@@ -424,7 +424,8 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
       out.shell_elements.push_back(v);
     }
   for (const auto& k : sys_.kl_patches())
-    out.kl_patches.push_back({k.name, sys_.stacked(s.q, k.nodes)});
+    out.kl_patches.push_back(
+        {k.name, sys_.stacked(s.q, k.nodes), k.element->shared_patch(), k.element->kinematics()});
   for (const auto& p : sys_.probes()) {
     ProbeValue pv;
     pv.name = p.name;

@@ -2,9 +2,11 @@
 // What an integrator reports after the initial state and after every step: plain values, so that
 // writers (io/) and the progress display (app/) need nothing from system/ or integrate/ internals.
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::integrate {
@@ -46,10 +48,13 @@ struct ShellElementValue {
 };
 
 // The control points of one Kirchhoff–Love patch (kl_shells entry `shell`), stacked in the
-// surface's numbering as elements::KLShellPatch's x: the writers evaluate the deformed surface.
+// surface's numbering as elements::KLShellPatch's x, with the system's patch and kinematics: the
+// writers evaluate the deformed surface and recover the stresses with them.
 struct KLPatchValue {
   std::string shell;
   VecX x;
+  std::shared_ptr<const elements::KLShellPatch> patch;
+  elements::KLKinematics kinematics = elements::KLKinematics::nonlinear;
 };
 
 struct Snapshot {

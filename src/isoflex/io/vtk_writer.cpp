@@ -14,7 +14,6 @@
 #include "isoflex/io/kl_shell_vtk.hpp"
 #include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
-#include "isoflex/system/kl_model.hpp"
 
 namespace isoflex::io {
 
@@ -320,9 +319,8 @@ VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const mode
   const std::vector<std::string> stems = kl_patch_file_stems(model);
   for (std::size_t k = 0; k < model.kl_shells.size(); ++k) {
     kl_ids_[model.kl_shells[k].name] = static_cast<int>(k);
-    kl_.push_back({system::kl_patch(model, static_cast<int>(k)), stems[k]});
+    kl_stems_.push_back(stems[k]);
   }
-  kl_kinematics_ = system::kl_kinematics(model);
   std::error_code ec;
   std::filesystem::create_directories(outdir_ / "vtk", ec);
   if (ec) {
@@ -594,16 +592,16 @@ void VtkSeriesWriter::write_kl_patches(const integrate::Snapshot& s) {
           "VTK output: snapshot has the Kirchhoff–Love patch \"{}\", not in the model's kl_shells",
           value.shell));
     }
-    const KLPatchOutput& out = kl_[found->second];
-    if (value.x.size() != out.patch->dofs()) {
+    if (!value.patch || value.x.size() != value.patch->dofs()) {
       throw std::runtime_error(fmt::format(
           "VTK output: Kirchhoff–Love patch \"{}\" has {} coordinates in the snapshot, {} in "
-          "the model",
-          value.shell, value.x.size(), out.patch->dofs()));
+          "its patch",
+          value.shell, value.x.size(), value.patch ? value.patch->dofs() : 0));
     }
-    const std::string name = fmt::format("vtk/{}_{:06d}.vtu", out.stem, s.step);
+    const std::string name = fmt::format(
+        "vtk/{}_{:06d}.vtu", kl_stems_[static_cast<std::size_t>(found->second)], s.step);
     write_file_atomic(outdir_ / name,
-                      kl_shell_vtu(*out.patch, kl_kinematics_, value.x, kl_per_span_));
+                      kl_shell_vtu(*value.patch, value.kinematics, value.x, kl_per_span_));
     files_.push_back(name);
     add_pvd_entry(s.t, 1 + found->second, name);
   }

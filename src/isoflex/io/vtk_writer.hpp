@@ -99,8 +99,8 @@ std::vector<std::string> kl_patch_file_stems(const model::Model& model);
 
 class VtkSeriesWriter : public integrate::Observer {
  public:
-  // Creates outdir/vtk and builds the model's Kirchhoff–Love patches (system::kl_patch; throws
-  // its CompileError for a shell it cannot build). every ≤ 0 writes nothing at all.
+  // Creates outdir/vtk; the file names of the model's Kirchhoff–Love patches (their geometry
+  // comes with each snapshot). every ≤ 0 writes nothing at all.
   // kl_per_span: quads per knot span and direction of the patch files.
   VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model, int every,
                   int kl_per_span = kKLShellQuadsPerSpan);
@@ -127,15 +127,9 @@ class VtkSeriesWriter : public integrate::Observer {
   std::map<std::string, std::array<double, 2>> beam_sections_;  // drawn width, height per beam
   std::vector<std::string> shell_names_;                        // index = shell_id
   std::map<std::string, int> shell_ids_;
-  // Per kl_shells entry: the patch (reference geometry and material of the stress recovery) and
-  // the stem of its files.
-  struct KLPatchOutput {
-    std::shared_ptr<const elements::KLShellPatch> patch;
-    std::string stem;
-  };
-  std::map<std::string, int> kl_ids_;  // shell name → index into kl_
-  std::vector<KLPatchOutput> kl_;
-  elements::KLKinematics kl_kinematics_ = elements::KLKinematics::nonlinear;  // of the recovery
+  // Per kl_shells entry: the stem of its files (the patch itself comes with the snapshot).
+  std::map<std::string, int> kl_ids_;  // shell name → index into kl_stems_
+  std::vector<std::string> kl_stems_;
   int kl_per_span_;
   // φ of every node at the first snapshot: the reference of the shells' displacement.
   std::vector<Vec3> reference_positions_;

@@ -41,6 +41,7 @@ void GlobalMatrix::finalize(int n) {
   pattern_.setFromTriplets(t.begin(), t.end());
   pattern_.makeCompressed();
   maps_.assign(parts_.size(), {});
+  entries_.clear();
   for (std::size_t p = 0; p < parts_.size(); ++p) {
     const Contributor& c = parts_[p];
     std::vector<int>& m = maps_[p];
@@ -53,6 +54,10 @@ void GlobalMatrix::finalize(int n) {
       assert(at != e && *at == r);
       m[k] = static_cast<int>(at - pattern_.innerIndexPtr());
     });
+    entries_.push_back(static_cast<int>(m.size()));
+    bool identity = static_cast<Eigen::Index>(m.size()) == pattern_.nonZeros();
+    for (std::size_t k = 0; identity && k < m.size(); ++k) identity = m[k] == static_cast<int>(k);
+    if (identity && !m.empty()) std::vector<int>().swap(m);
   }
   parts_.clear();  // the maps are all that is needed from here on
 }
@@ -65,6 +70,10 @@ void GlobalMatrix::reset(SpMat& K) const {
 void GlobalMatrix::scatter(int id, const double* local, SpMat& K) const {
   double* v = K.valuePtr();
   const std::vector<int>& m = maps_[id];
+  if (whole(id)) {
+    for (int k = 0; k < entries_[id]; ++k) v[k] += local[k];
+    return;
+  }
   for (std::size_t k = 0; k < m.size(); ++k) v[m[k]] += local[k];
 }
 

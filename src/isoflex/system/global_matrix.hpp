@@ -27,9 +27,11 @@ class GlobalMatrix {
   const SpMat& zero() const { return pattern_; }
   // Sets K to the pattern with zero values, keeping K's storage when it has the pattern already.
   void reset(SpMat& K) const;
-  // Positions in the global storage of contributor id's local entries (its storage order).
-  const std::vector<int>& map(int id) const { return maps_[id]; }
-  int local_entries(int id) const { return static_cast<int>(maps_[id].size()); }
+  int local_entries(int id) const { return entries_[id]; }
+  // Whether contributor id's pattern is the whole global pattern in the global storage order
+  // (one NURBS patch alone in a model): its map is the identity and is not stored, and its
+  // values may be written straight into K's storage.
+  bool whole(int id) const { return entries_[id] > 0 && maps_[id].empty(); }
   // K.valuePtr()[map[k]] += local[k], K in the pattern (reset()).
   void scatter(int id, const double* local, SpMat& K) const;
 
@@ -39,7 +41,8 @@ class GlobalMatrix {
     std::vector<int> coords;
   };
   std::vector<Contributor> parts_;
-  std::vector<std::vector<int>> maps_;
+  std::vector<std::vector<int>> maps_;  // empty for a whole() contributor
+  std::vector<int> entries_;
   SpMat pattern_;
 };
 

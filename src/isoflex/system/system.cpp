@@ -218,18 +218,23 @@ VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) 
 
 void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) const {
   std::vector<double> values;
+  bool touched = false;  // whether K has received values yet (it starts at zero)
   for (std::size_t i = 0; i < elements_.size(); ++i) {
     const auto& e = elements_[i];
     const auto& nodes = e->nodes();
-    if (K) values.resize(stiffness_.local_entries(element_part_[i]));
-    const VecX dv = kernel(*e, nodes, K ? values.data() : nullptr);
+    const int part = element_part_[i];
+    // An element whose pattern is the whole global one (a patch alone) writes in place.
+    const bool in_place = K && !touched && stiffness_.whole(part);
+    if (K && !in_place) values.resize(stiffness_.local_entries(part));
+    const VecX dv = kernel(*e, nodes, !K ? nullptr : in_place ? K->valuePtr() : values.data());
     int o = 0;
     for (int a : nodes) {
       const int c = coordinate_count(a);
       f.segment(nodes_[a].q_offset, c) += dv.segment(o, c);
       o += c;
     }
-    if (K) stiffness_.scatter(element_part_[i], values.data(), *K);
+    if (K && !in_place) stiffness_.scatter(part, values.data(), *K);
+    touched = touched || (K && stiffness_.local_entries(part) > 0);
   }
 }
 
