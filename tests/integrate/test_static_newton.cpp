@@ -308,6 +308,29 @@ TEST(StaticNewton, AdaptiveStepsReturnToTheNominalLevels) {
   }
 }
 
+// The load levels are k·Δt computed as such: twenty steps of 0.05 end at 0.9 and 1 exactly, not
+// at the sums 0.9000000000000002 and 1.0000000000000002 of their increments (with halvings too).
+TEST(StaticNewton, LoadLevelsAreMultiplesOfTheIncrementNotSums) {
+  for (const bool adaptive : {false, true}) {
+    StaticSettings set;
+    set.steps = 20;
+    set.force_floor = 1.0;
+    set.max_iterations = 30;
+    set.adaptive = adaptive;
+    StaticNewtonSolver solver(adaptive ? arctan_with_a_step() : moving_arctan(1.0), {}, set);
+    const StaticResult res = solver.solve();
+    int nominal = 0;
+    for (const auto& st : res.steps) {
+      const double k = std::round(st.t * 20.0);
+      if (std::abs(st.t - k * 0.05) > 1e-12) continue;  // a halved level
+      EXPECT_EQ(st.t, k / 20.0) << "step " << st.step << (adaptive ? " (adaptive)" : "");
+      ++nominal;
+    }
+    EXPECT_EQ(nominal, 20);
+    EXPECT_EQ(res.steps.back().t, 1.0);
+  }
+}
+
 TEST(StaticNewton, FailureMessageNamesStepFactorAndResidual) {
   StaticSettings set;
   set.steps = 4;  // step 1 moves the root by 0.625, step 2 by 1.875: Newton diverges there

@@ -184,7 +184,13 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
     fmt::print(out, "  (dropped: {}; full-pivot LU rank {} = pivoted QR rank {})",
                rows_by_joint(sys, sys.redundant_rows()), sys.cut_rank(), sys.cut_rank_qr());
   fmt::print(out, "\n");
-  fmt::print(out, "dof              {}  (n - m)\n", sys.n() - sys.m_selected());
+  const system::LinearConstraints& lin = sys.linear_constraints();
+  if (lin.eliminated.empty() && lin.multipliers() == 0)
+    fmt::print(out, "dof              {}  (n - m)\n", sys.n() - sys.m_selected());
+  else  // a static analysis with supports as linear conditions
+    fmt::print(
+        out, "dof              {}  (n - m - eliminated - multipliers)\n",
+        sys.n() - sys.m_selected() - static_cast<int>(lin.eliminated.size()) - lin.multipliers());
   fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
   if (l->model.solver.analysis == model::Analysis::statics)
     print_static_check(sys, l->model.solver, out);

@@ -377,7 +377,12 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
       if (t + dt_try > next - 1e-12 * dt_nominal) dt_try = next - t;
     }
     if (s.t_end - (t + dt_try) < 1e-12 * dt_nominal) dt_try = s.t_end - t;
-    const double t_try = t + dt_try;
+    // A nominal level is k·Δt computed as such (t_end k / steps), not a sum of increments.
+    const double k_level = std::round((t + dt_try) / dt_nominal);
+    const double t_try = std::abs(t + dt_try - k_level * dt_nominal) < 1e-9 * dt_nominal
+                             ? s.t_end * k_level / s.steps
+                             : t + dt_try;
+    dt_try = t_try - t;
     LoadStepStats st;
     st.step = static_cast<int>(res.steps.size()) + 1;
     VecX x_try = x, mu_try = mu;

@@ -12,7 +12,8 @@
 //         [ C_f   0    ] [Δμ  ] = − [ C (x − X) − d(t)    ]
 //     over the free dofs f (the constraint rows are linear, so one Newton step satisfies them).
 //
-// Load stepping: t runs from 0 to t_end in `steps` equal increments; adaptive: an increment whose
+// Load stepping: t runs from 0 to t_end in `steps` equal increments (the levels t_end·k/steps
+// exactly, not sums of increments); adaptive: an increment whose
 // Newton iteration fails (max_iterations, a singular matrix, a non-finite residual) is retried
 // from the last equilibrium with half the increment, never below the nominal increment / 2^max_cuts
 // (the run stops there), and after grow_after consecutive steps that converged in
