@@ -79,10 +79,12 @@ TEST(KLSystem, LocatedErrors) {
           "axis: [0, 0, 1]}\n")),
       "m.yaml:11: joints[0].type: 'plate[3]' is a control point: it is attached (rigid, "
       "fixed or spherical, which coincide for a point), not revolute");
+  EXPECT_EQ(compile_error(kl_model_text(
+                "kl_supports: [{shell: plate, edge: u0, displacement: [0, 0, \"t\"]}]\n")),
+            "m.yaml:10: kl_supports[0]: a prescribed displacement acts in static analyses only for "
+            "now (solver.analysis: static): the constraints of a dynamic run do not depend on t");
   EXPECT_EQ(compile_error(
-                kl_model_text("kl_supports: [{shell: plate, edge: u0, symmetry: [1, 0, 0]}]\n")),
-            "m.yaml:10: kl_supports[0]: in a dynamic run a Kirchhoff–Love support (and in a "
-            "static one a support to a body) holds all components, fixed or clamped; symmetry, "
-            "prescribed displacements and single components act on supports to the ground in "
-            "static analyses only for now (solver.analysis: static)");
+                kl_model_text("kl_supports: [{shell: plate, edge: u0, fixed: [z], body: hub}]\n")),
+            "m.yaml:10: kl_supports[0]: a Kirchhoff–Love support to a body holds all components, "
+            "fixed or clamped");
 }

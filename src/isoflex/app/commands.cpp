@@ -67,8 +67,10 @@ std::vector<std::string> body_names(const model::Model& m) {
 std::string rows_by_joint(const system::System& sys, const std::vector<int>& rows) {
   std::vector<std::pair<std::string, int>> by;
   for (int r : rows) {
-    const int j = sys.joint_of_row(r);
-    const std::string name = j < 0 ? "internal" : sys.joints()[j].name;
+    const int j = sys.joint_of_row(r), c = sys.nary_of_row(r);
+    const std::string name = j >= 0   ? sys.joints()[j].name
+                             : c >= 0 ? sys.nary_constraints()[c].name
+                                      : "internal";
     if (!by.empty() && by.back().first == name)
       ++by.back().second;
     else
@@ -161,22 +163,32 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   }
   fmt::print(out, "nodes            {} ({})\n", sys.node_count(), kinds);
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
-  fmt::print(out, "m                {}  (independent constraints: {} internal + {} joint)\n",
+  fmt::print(out,
+             "m                {}  (independent constraints: {} internal + {} joint and other)\n",
              sys.m_selected(), m_int, sys.m_selected() - m_int);
   {
     // Rows per constraint kind (all rows, redundant ones included): the nodes' internal rows,
-    // then each joint type in the order it first appears.
-    std::vector<std::pair<std::string, std::array<int, 2>>> kinds;  // rows, joints
-    for (const auto& J : sys.joints()) {
-      auto it = std::find_if(kinds.begin(), kinds.end(),
-                             [&](const auto& k) { return k.first == J.type; });
-      if (it == kinds.end()) it = kinds.insert(kinds.end(), {J.type, {0, 0}});
-      it->second[0] += J.joint->constraint_count();
-      ++it->second[1];
-    }
+    // then each joint type and each n-ary constraint type in the order it first appears.
+    struct Kind {
+      std::string type;
+      int rows = 0, count = 0;
+      const char* noun;  // "joint" or "constraint"
+    };
+    std::vector<Kind> kinds;
+    const auto add = [&](const std::string& type, int rows, const char* noun) {
+      auto it =
+          std::find_if(kinds.begin(), kinds.end(), [&](const Kind& k) { return k.type == type; });
+      if (it == kinds.end()) it = kinds.insert(kinds.end(), {type, 0, 0, noun});
+      it->rows += rows;
+      ++it->count;
+    };
+    for (const auto& J : sys.joints()) add(J.type, J.joint->constraint_count(), "joint");
+    for (const auto& C : sys.nary_constraints())
+      add(C.type, C.constraint->constraint_count(), "constraint");
     std::string text = fmt::format("internal {}", m_int);
-    for (const auto& [type, c] : kinds)
-      text += fmt::format("; {} {} ({} joint{})", type, c[0], c[1], c[1] == 1 ? "" : "s");
+    for (const Kind& k : kinds)
+      text += fmt::format("; {} {} ({} {}{})", k.type, k.rows, k.count, k.noun,
+                          k.count == 1 ? "" : "s");
     fmt::print(out, "constraint rows  {}\n", text);
   }
   fmt::print(out, "redundant        {}", sys.redundant_rows().size());

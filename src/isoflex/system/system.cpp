@@ -74,6 +74,14 @@ VecX System::stacked(const VecX& q, const std::vector<int>& nodes) const {
   return out;
 }
 
+int System::nary_of_row(int row) const {
+  for (int c = 0; c < static_cast<int>(nary_.size()); ++c) {
+    const auto& C = nary_[c];
+    if (row >= C.row_offset && row < C.row_offset + C.constraint->constraint_count()) return c;
+  }
+  return -1;
+}
+
 int System::joint_of_row(int row) const {
   for (int j = 0; j < static_cast<int>(joints_.size()); ++j) {
     const auto& J = joints_[j];
@@ -295,6 +303,9 @@ VecX System::constraints(const VecX& q) const {
   for (const auto& J : joints_)
     c.segment(J.row_offset, J.joint->constraint_count()) =
         J.joint->constraints(node_q(q, J.parent), node_q(q, J.child));
+  for (const auto& C : nary_)
+    c.segment(C.row_offset, C.constraint->constraint_count()) =
+        C.constraint->constraints(stacked(q, C.constraint->nodes()));
   return c;
 }
 
@@ -310,6 +321,14 @@ SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
     if (J.parent >= 0) add_block(t, J.row_offset, nodes_[J.parent].q_offset, G.leftCols(na));
     add_block(t, J.row_offset, nodes_[J.child].q_offset,
               G.block(0, na, m, coordinate_count(J.child)));
+  }
+  for (const auto& C : nary_) {
+    const MatX G = C.constraint->jacobian(stacked(q, C.constraint->nodes()));
+    int o = 0;
+    for (int a : C.constraint->nodes()) {
+      add_block(t, C.row_offset, nodes_[a].q_offset, G.middleCols(o, coordinate_count(a)));
+      o += coordinate_count(a);
+    }
   }
   SpMat all(m_all_, n());
   all.setFromTriplets(t.begin(), t.end());
@@ -348,6 +367,16 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
         if (nodes[a] >= 0 && nodes[b] >= 0)
           add_block(t, nodes_[nodes[a]].q_offset, nodes_[nodes[b]].q_offset,
                     H.block(off[a], off[b], size[a], size[b]));
+  }
+  for (const auto& C : nary_) {
+    const std::vector<int>& nodes = C.constraint->nodes();
+    const std::vector<int> coords = coordinates_of(nodes);
+    MatX H = MatX::Zero(coords.size(), coords.size());
+    C.constraint->add_constraint_hessian(l.segment(C.row_offset, C.constraint->constraint_count()),
+                                         H);
+    for (int j = 0; j < H.cols(); ++j)
+      for (int i = 0; i < H.rows(); ++i)
+        if (H(i, j) != 0.0) t.emplace_back(coords[i], coords[j], H(i, j));
   }
   SpMat H(n(), n());
   H.setFromTriplets(t.begin(), t.end());

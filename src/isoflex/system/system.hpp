@@ -30,6 +30,7 @@
 #include "isoflex/elements/director_shell_element.hpp"
 #include "isoflex/elements/element.hpp"
 #include "isoflex/elements/kl_patch_element.hpp"
+#include "isoflex/joints/constraint.hpp"
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/joints/joint.hpp"
 #include "isoflex/loads/body_load.hpp"
@@ -56,6 +57,15 @@ struct JointInstance {
   bool reversed = false;  // parent/child swapped relative to body_a/body_b of the model
   int row_offset = 0;     // first row in the all-rows layout
   int nu_offset = -1;     // tree joints: first entry of τ in ν
+};
+
+// An n-ary constraint (joints/constraint.hpp): rows over any set of nodes, always loop-closing
+// ("cut") rows, after the joints' rows.
+struct ConstraintInstance {
+  std::string name;
+  std::string type;
+  std::shared_ptr<const joints::Constraint> constraint;
+  int row_offset = 0;  // first row in the all-rows layout
 };
 
 // A beam of the model: its nodes along the polyline and its elements (owned by the system).
@@ -117,6 +127,7 @@ class System {
   const std::vector<int>& cut_rows() const { return cut_rows_; }  // selected rows of cut joints
   const std::vector<int>& redundant_rows() const { return redundant_rows_; }
   const std::vector<JointInstance>& joints() const { return joints_; }
+  const std::vector<ConstraintInstance>& nary_constraints() const { return nary_; }
   const std::vector<int>& roots() const { return roots_; }
   const std::vector<std::unique_ptr<elements::Element>>& elements() const { return elements_; }
   const std::vector<loads::BodyLoad>& loads() const { return loads_; }
@@ -125,8 +136,10 @@ class System {
   const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
   // Coordinates of a node (−1: the ground frame), a view into q.
   joints::Joint::CRef node_q(const VecX& q, int node) const;
-  // Which joint (index) or −1 (internal) a row belongs to.
+  // Which joint (index) or −1 (internal or an n-ary constraint) a row belongs to.
   int joint_of_row(int row) const;
+  // Which n-ary constraint (index into nary_constraints()) or −1 a row belongs to.
+  int nary_of_row(int row) const;
   // Independent cut rows found by pivoted QR (must agree in count with the LU selection).
   int cut_rank_qr() const { return cut_rank_qr_; }
   // ‖E ν₀ − t_given‖ / max(1, ‖t_given‖): how far the given initial velocities were from
@@ -242,6 +255,8 @@ class System {
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);
   void add_linear_constraints(const LinearConstraints& local, const std::vector<int>& nodes);
+  void add_kl_support_rows(const model::Model& model, const model::KLSupport& S,
+                           const std::string& what, const KLPatchInstance& P);
   void build_forest(Build& build);
   std::shared_ptr<const joints::Joint> model_joint(const Build& build, std::size_t j, int parent,
                                                    int child, bool rev) const;
@@ -278,6 +293,7 @@ class System {
   std::vector<int> element_part_, load_part_, director_load_part_;
   std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
+  std::vector<ConstraintInstance> nary_;
   std::vector<int> tree_order_;  // joint indices, parents before children
   std::vector<int> roots_;
   std::vector<int> root_nu_offset_;

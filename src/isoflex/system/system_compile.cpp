@@ -10,6 +10,7 @@
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/joints/director_joints.hpp"
+#include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/joints/point_joints.hpp"
 #include "isoflex/loads/patch_edge.hpp"
 #include "isoflex/math/director_node.hpp"
@@ -477,14 +478,19 @@ void System::add_kl_supports(Build& build) {
     if (statics && S.body.empty()) continue;
     const std::string what = fmt::format("kl_supports[{}]", k);
     using K = model::KLSupportKind;
-    if (!(S.components[0] && S.components[1] && S.components[2]) ||
-        (S.kind != K::fixed && S.kind != K::clamped))
-      fail(S.source, what,
-           "in a dynamic run a Kirchhoff–Love support (and in a static one a support to a body) "
-           "holds all components, fixed or clamped; symmetry, prescribed displacements and "
-           "single components act on supports to the ground in static analyses only for now "
-           "(solver.analysis: static)");
     const KLPatchInstance& P = kl_patches_.front();  // the reader checked the shell's name
+    const bool attachment = S.components[0] && S.components[1] && S.components[2] &&
+                            (S.kind == K::fixed || S.kind == K::clamped);
+    if (!attachment && S.body.empty() && S.kind != K::displacement) {
+      add_kl_support_rows(model, S, what, P);
+      continue;
+    }
+    if (!attachment)
+      fail(S.source, what,
+           S.body.empty()
+               ? "a prescribed displacement acts in static analyses only for now (solver.analysis: "
+                 "static): the constraints of a dynamic run do not depend on t"
+               : "a Kirchhoff–Love support to a body holds all components, fixed or clamped");
     const geometry::NurbsSurface& g = P.element->patch().reference();
     std::vector<int> cps = S.control_points;
     if (!S.edge.empty())
@@ -502,6 +508,44 @@ void System::add_kl_supports(Build& build) {
       build.edges.push_back({parent, node});
     }
   }
+}
+
+// A support to the ground that is not a rigid attachment, in a dynamic run: its conditions
+// (system/kl_boundary_conditions.hpp, as in statics) as homogeneous linear rows over the control
+// points they touch, an n-ary constraint (joints/linear_rows.hpp); an eliminated component is the
+// row e_k·(x_A − X_A) = 0.
+void System::add_kl_support_rows(const model::Model& model, const model::KLSupport& S,
+                                 const std::string& what, const KLPatchInstance& P) {
+  const LinearConstraints lc =
+      kl_boundary_conditions(model, P.element->patch().reference(),
+                             [&](const model::KLSupport& other) { return &other == &S; })
+          .constraints();
+  // Rows over patch dofs: the eliminated ones, then C's.
+  std::vector<std::vector<std::pair<int, double>>> rows;
+  for (int i : lc.eliminated) rows.push_back({{i, 1.0}});
+  const int first = static_cast<int>(rows.size());
+  rows.resize(rows.size() + static_cast<std::size_t>(lc.multipliers()));
+  for (int j = 0; j < lc.C.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(lc.C, j); it; ++it)
+      rows[static_cast<std::size_t>(first + it.row())].push_back({j, it.value()});
+  // The control points touched, in patch order, and C over their stacked coordinates.
+  std::map<int, int> local;  // control point → position
+  for (const auto& r : rows)
+    for (const auto& [dof, c] : r) local.emplace(dof / 3, 0);
+  std::vector<int> nodes;
+  for (auto& [cp, pos] : local) {
+    pos = static_cast<int>(nodes.size());
+    nodes.push_back(P.nodes[static_cast<std::size_t>(cp)]);
+  }
+  MatX C = MatX::Zero(static_cast<Eigen::Index>(rows.size()),
+                      3 * static_cast<Eigen::Index>(nodes.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (const auto& [dof, c] : rows[r])
+      C(static_cast<Eigen::Index>(r), 3 * local[dof / 3] + dof % 3) += c;
+  if (rows.empty()) fail(S.source, what, "the support holds nothing");
+  nary_.push_back({what, "kl_support_rows",
+                   std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
+                   0});
 }
 
 // The spanning forest: breadth first from the ground, then from each node not yet reached (a
@@ -648,6 +692,10 @@ void System::add_joint_instances(Build& build) {
                        build.tree_parent_side[j] != 0, false, row, -1});
     row += S.joint->constraint_count();
   }
+  for (ConstraintInstance& C : nary_) {
+    C.row_offset = row;
+    row += C.constraint->constraint_count();
+  }
   m_all_ = row;
   int nu = 0;
   for (int root : roots_) {
@@ -687,6 +735,8 @@ void System::select_loop_rows() {
   for (const auto& J : joints_)
     if (!J.tree)
       for (int i = 0; i < J.joint->constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
+  for (const auto& C : nary_)
+    for (int i = 0; i < C.constraint->constraint_count(); ++i) cut_all.push_back(C.row_offset + i);
   for (int i = 0; i < internal_rows_; ++i) selected_rows_.push_back(i);
   for (const auto& J : joints_)
     if (J.tree)

@@ -1,0 +1,29 @@
+#pragma once
+// The constraint contract (docs/architecture.md): rows Φ(q) = 0 over the stacked coordinates of
+// any set of nodes, at most quadratic in q — the condition under which the midpoint evaluation of
+// the constraint forces is an exact discrete gradient (DNSM-III (9)–(10)) — with their Jacobian
+// and the constant Hessians. `Joint` (joint.hpp) is the binary special case that also describes
+// its explicit elimination (parent and freedom blocks, update map), so that the spanning forest
+// can remove its rows; a `Constraint` has no elimination: its rows stay in every formulation as
+// loop-closing ("cut") rows, selected for independence with the loop rows of the joints
+// (IGA-thesis Alg. 5.1). Scleronomic: Φ does not depend on t.
+#include <vector>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::joints {
+
+class Constraint {
+ public:
+  using CRef = Eigen::Ref<const VecX>;
+  virtual ~Constraint() = default;
+  // The system's nodes whose stacked coordinates q_c (in this order) the rows depend on.
+  virtual const std::vector<int>& nodes() const = 0;
+  virtual int constraint_count() const = 0;
+  virtual VecX constraints(CRef q_c) const = 0;
+  virtual MatX jacobian(CRef q_c) const = 0;  // constraint_count() × q_c.size()
+  // H += Σ λ_i ∂²Φ_i/∂q_c² (constant: Φ is at most quadratic).
+  virtual void add_constraint_hessian(CRef lambda, MatX& H) const = 0;
+};
+
+}  // namespace isoflex::joints

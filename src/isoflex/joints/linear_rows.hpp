@@ -1,0 +1,33 @@
+#pragma once
+// Homogeneous linear rows C (q_c − Q_c) = 0 over the stacked coordinates of some nodes: the
+// Kirchhoff–Love supports that are not rigid attachments (single components, symmetry edges,
+// the slope rows of a clamp; system/kl_boundary_conditions.hpp) in a dynamic run. Jacobian C,
+// Hessian 0: linear rows hold exactly at every time node of the midpoint rule, and their forces
+// Cᵀλ do no work on the motions they allow, so energy stays conserved (momentum is not: a support
+// holds the body).
+#include <string>
+#include <vector>
+
+#include "isoflex/joints/constraint.hpp"
+
+namespace isoflex::joints {
+
+class LinearRows final : public Constraint {
+ public:
+  // C: rows × Q.size(); Q the stacked reference coordinates of `nodes`. Throws
+  // std::invalid_argument for inconsistent sizes or non-finite entries.
+  LinearRows(std::vector<int> nodes, MatX C, VecX Q);
+
+  const std::vector<int>& nodes() const override { return nodes_; }
+  int constraint_count() const override { return static_cast<int>(C_.rows()); }
+  VecX constraints(CRef q_c) const override { return C_ * (q_c - Q_); }
+  MatX jacobian(CRef) const override { return C_; }
+  void add_constraint_hessian(CRef, MatX&) const override {}
+
+ private:
+  std::vector<int> nodes_;
+  MatX C_;
+  VecX Q_;
+};
+
+}  // namespace isoflex::joints
