@@ -4,7 +4,11 @@
 // (joints::LinearRows), loop-closing rows of every formulation. Checked: the assembled Jacobian
 // is the derivative of the rows, the corner row that both supports fix is found redundant by the
 // full-pivot LU and dropped, and after a load pulse the motion keeps the rows to round-off,
-// conserves energy to round-off, and is the same in the three formulations.
+// conserves energy to round-off, and is the same in the three formulations. And a spherical joint
+// at a point of a free patch found by point projection (a body hinged to the plate, three linear
+// rows over the body's frame node and the control points there): energy, linear and angular
+// momentum conserved after a pulse, the two material points kept together, the formulations
+// equal; a joint type that is not spherical is a located error.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -88,4 +92,85 @@ TEST(NaryConstraints, PulsedPlateKeepsTheRowsConservesEnergyInEveryFormulation) 
   EXPECT_GT(std::abs(tips[0].z()), 1e-3);  // it moved
   EXPECT_LT((tips[1] - tips[0]).norm(), 1e-8);
   EXPECT_LT((tips[2] - tips[0]).norm(), 1e-8);
+}
+
+namespace {
+
+constexpr const char* kBall = R"yaml(solver: {dt: 0.01, t_end: 0.6}
+surfaces:
+  - name: sheet
+    builtin: {type: rectangle, size: [1, 0.5]}
+    refine: {elevate: [2, 2], knots_per_span: [1, 0]}
+kl_shells:
+  - {name: plate, surface: sheet, material: {E: 1.0e4, nu: 0.3, thickness: 0.05, density: 1000}}
+bodies:
+  - {name: ball, mass: 5, inertia: [0.02, 0.02, 0.02], position: [1.1, 0.3, 0.05]}
+joints:
+  - {name: hinge, type: TYPE, body_a: ball, body_b: plate, point: [0.7, 0.3, 0]}
+loads:
+  - {body: ball, force: [0, "20*sin(5*pi*t)^2*(t<=0.2)", "40*sin(5*pi*t)^2*(t<=0.2)"],
+     moment: ["2*sin(5*pi*t)^2*(t<=0.2)", 0, 0]}
+probes:
+  - {name: hinge_on_plate, shell: plate, point: [0.7, 0.3, 0]}
+  - {name: hinge_on_ball, body: ball, point: [0.7, 0.3, 0]}
+)yaml";
+
+std::string ball(const std::string& type) {
+  std::string text = kBall;
+  text.replace(text.find("TYPE"), 4, type);
+  return text;
+}
+
+}  // namespace
+
+TEST(NaryConstraints, SphericalJointAtAShellPointConservesEnergyAndMomenta) {
+  const model::Model m = io::read_model_string(ball("spherical"), "ball.yaml");
+  ASSERT_TRUE(m.joints.empty());
+  ASSERT_EQ(m.kl_surface_joints.size(), 1u);
+  const auto sys = system::System::compile(m);
+  ASSERT_EQ(sys.nary_constraints().size(), 1u);
+  EXPECT_EQ(sys.nary_constraints()[0].constraint->constraint_count(), 3);
+  // The body's frame node and the 4 × 4 control points of the span the point lies in.
+  EXPECT_EQ(sys.nary_constraints()[0].constraint->nodes().size(), 17u);
+  using F = model::Formulation;
+  std::vector<Vec3> tips;
+  for (const F f : {F::reparametrized, F::constrained, F::nullspace}) {
+    const test::Trajectory r = test::simulate(m, f);
+    const std::size_t free = r.first_at(0.2);
+    const auto& s0 = r.snapshots[free];
+    double dE = 0.0, dp = 0.0, dL = 0.0, gap = 0.0;
+    for (std::size_t i = free; i < r.snapshots.size(); ++i) {
+      const auto& s = r.snapshots[i];
+      dE = std::max(dE, std::abs(s.total_energy - s0.total_energy) / s0.total_energy);
+      dp =
+          std::max(dp, (s.linear_momentum - s0.linear_momentum).norm() / s0.linear_momentum.norm());
+      dL = std::max(dL,
+                    (s.angular_momentum - s0.angular_momentum).norm() / s0.angular_momentum.norm());
+    }
+    const auto on_plate = r.probe("hinge_on_plate"), on_ball = r.probe("hinge_on_ball");
+    for (std::size_t i = 0; i < on_plate.size(); ++i)
+      gap = std::max(gap, (on_plate[i] - on_ball[i]).norm());
+    std::printf("  [nary] hinge, %s: after the pulse drift E %.2e, p %.2e, L %.2e; gap %.2e\n",
+                model::to_string(f), dE, dp, dL, gap);
+    EXPECT_LT(dE, 1e-11);
+    EXPECT_LT(dp, 1e-11);
+    EXPECT_LT(dL, 1e-11);
+    EXPECT_LT(gap, 1e-12);
+    tips.push_back(on_plate.back());
+  }
+  EXPECT_GT((tips[0] - Vec3(0.7, 0.3, 0.0)).norm(), 1e-2);  // it moved
+  EXPECT_LT((tips[1] - tips[0]).norm(), 1e-8);
+  EXPECT_LT((tips[2] - tips[0]).norm(), 1e-8);
+}
+
+TEST(NaryConstraints, AJointAtAShellPointIsSpherical) {
+  try {
+    io::read_model_string(ball("revolute"), "ball.yaml");
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "ball.yaml:11: joints[0].type: \"plate\" is a Kirchhoff–Love shell: a joint at a "
+              "point of its surface is spherical (name a control point \"plate[A]\" for a rigid "
+              "attachment)");
+  }
 }

@@ -124,8 +124,10 @@ class Reader : YamlFields {
     }
 
     if (const auto list = optional_list(root, "joints"))
-      for (std::size_t i = 0; i < list.size(); ++i)
-        m.joints.push_back(read_joint(list[i], indexed("joints", i), i));
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        Joint j = read_joint(list[i], indexed("joints", i), i, m, kl);
+        (j.kl_shell.empty() ? m.joints : m.kl_surface_joints).push_back(std::move(j));
+      }
     if (const auto list = optional_list(root, "loads"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.loads.push_back(read_load(list[i], indexed("loads", i), i));
@@ -477,7 +479,8 @@ class Reader : YamlFields {
     return l;
   }
 
-  Joint read_joint(const YAML::Node& n, const std::string& p, std::size_t index) {
+  Joint read_joint(const YAML::Node& n, const std::string& p, std::size_t index,
+                   const model::Model& m, const KLShellReader& kl) {
     expect_map(n, p);
     check_keys(n, p,
                {"name", "type", "body_a", "body_b", "point", "point_a", "point_b", "axis", "axis_a",
@@ -501,8 +504,12 @@ class Reader : YamlFields {
            "unknown joint type \"" + type_name + "\" (valid: " + list_names(kJointTypeNames) + ")");
     j.type = *t;
 
-    if (const auto v = n["body_a"]) j.body_a = body_ref(v, join(p, "body_a"), true);
     const YAML::Node body_b = require(n, p, "body_b");
+    if (kl_shell_ref(body_b) || kl_shell_ref(n["body_a"])) {
+      read_kl_surface_joint(n, p, j, m, kl);
+      return j;
+    }
+    if (const auto v = n["body_a"]) j.body_a = body_ref(v, join(p, "body_a"), true);
     j.body_b = body_ref(body_b, join(p, "body_b"), false);
     if (j.body_a == j.body_b)
       fail(body_b, join(p, "body_b"),
@@ -632,6 +639,46 @@ class Reader : YamlFields {
     bool shell = false;
     bool kl = false;  // a Kirchhoff–Love shell: its nodes are control points
   };
+  // Whether a body reference names a Kirchhoff–Love shell itself.
+  bool kl_shell_ref(const YAML::Node& n) const {
+    if (!n || !n.IsScalar()) return false;
+    const auto it = beams_.find(n.Scalar());
+    return it != beams_.end() && it->second.kl;
+  }
+
+  // A joint with a Kirchhoff–Love shell on one side (body_b after this; the other side is a body,
+  // a node or the ground): spherical, at `point` on the shell's surface.
+  void read_kl_surface_joint(const YAML::Node& n, const std::string& p, Joint& j,
+                             const model::Model& m, const KLShellReader& kl) const {
+    const bool shell_is_a = kl_shell_ref(n["body_a"]);
+    const YAML::Node shell = shell_is_a ? n["body_a"] : n["body_b"];
+    const std::string shell_key = join(p, shell_is_a ? "body_a" : "body_b");
+    const YAML::Node other = shell_is_a ? n["body_b"] : n["body_a"];
+    if (j.type != JointType::spherical)
+      fail(n["type"], join(p, "type"),
+           fmt::format("\"{}\" is a Kirchhoff–Love shell: a joint at a point of its surface is "
+                       "spherical (name a control point \"{}[A]\" for a rigid attachment)",
+                       shell.Scalar(), shell.Scalar()));
+    if (kl_shell_ref(other))
+      fail(other, join(p, shell_is_a ? "body_b" : "body_a"),
+           "a joint between two Kirchhoff–Love shells is not built yet (multipatch coupling)");
+    for (const char* k : {"point_a", "point_b"})
+      if (n[k]) fail(n[k], join(p, k), "give the joint point on the shell as `point` (global)");
+    for (const char* k : {"axis", "axis_a", "axis2", "axis2_b"})
+      if (n[k]) fail(n[k], join(p, k), "not allowed for a spherical joint");
+    j.kl_shell = shell.Scalar();
+    j.body_b = j.kl_shell;
+    j.body_a = other ? body_ref(other, join(p, shell_is_a ? "body_b" : "body_a"), true) : "ground";
+    const YAML::Node pt = require(n, p, "point");
+    j.point = vec3(pt, join(p, "point"));
+    const auto it = std::find_if(m.kl_shells.begin(), m.kl_shells.end(),
+                                 [&](const model::KLShell& s) { return s.name == j.kl_shell; });
+    if (it == m.kl_shells.end()) fail(shell, shell_key, "no kl_shell named \"" + j.kl_shell + "\"");
+    const auto [xi, eta] = kl.point_on_surface(pt, join(p, "point"), *j.point, kl_surface(m, *it));
+    j.xi = xi;
+    j.eta = eta;
+  }
+
   // Whether a body reference names a control point "<kl shell>[A]".
   bool kl_node(const std::string& ref) const {
     const auto open = ref.find('[');

@@ -76,6 +76,10 @@ struct Joint {
   std::optional<Vec3> axis_a;
   std::optional<Vec3> axis2;
   std::optional<Vec3> axis2_b;
+  // A spherical joint at a point of a Kirchhoff–Love shell (model::kl_surface_joints): body_b is
+  // the shell, `point` lies on its surface at (xi, eta), found by point projection.
+  std::string kl_shell;
+  double xi = 0.0, eta = 0.0;
   Source source;
 };
 
@@ -340,6 +344,7 @@ struct Model {
   std::vector<Body> bodies;
   std::vector<Beam> beams;
   std::vector<Joint> joints;
+  std::vector<Joint> kl_surface_joints;  // spherical joints at shell points (Joint::kl_shell)
   std::vector<Load> loads;
   std::vector<DistributedLoad> distributed_loads;
   std::vector<Shell> shells;

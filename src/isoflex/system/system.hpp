@@ -254,6 +254,7 @@ class System {
   void add_joint_edges(Build& build);
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);
+  void add_kl_surface_joints(Build& build);
   void add_linear_constraints(const LinearConstraints& local, const std::vector<int>& nodes);
   void add_kl_support_rows(const model::Model& model, const model::KLSupport& S,
                            const std::string& what, const KLPatchInstance& P);

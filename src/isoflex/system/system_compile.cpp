@@ -116,6 +116,7 @@ System System::compile(const model::Model& model) {
   s.add_joint_edges(build);
   s.add_shell_supports(build);
   s.add_kl_supports(build);
+  s.add_kl_surface_joints(build);
   s.build_forest(build);
   s.add_joint_instances(build);
   s.check_assembled(build);
@@ -546,6 +547,51 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
   nary_.push_back({what, "kl_support_rows",
                    std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
                    0});
+}
+
+// Spherical joints at points of a Kirchhoff–Love patch: the patch's material point Σ R_A(ξ, η) φ_A
+// (IGA-thesis (4.20), (ξ, η) from the point projection (4.14)–(4.15) of the reader) and the
+// other side's material point φ + X_I d_I (a frame node) or a fixed point coincide: three rows,
+// linear in all coordinates, so a LinearRows constraint over the frame node and the control
+// points whose functions do not vanish there (joints/linear_rows.hpp). Translating or rotating
+// both sides together keeps the rows, so momentum is conserved with them.
+void System::add_kl_surface_joints(Build& build) {
+  const model::Model& model = build.model;
+  for (std::size_t k = 0; k < model.kl_surface_joints.size(); ++k) {
+    const model::Joint& J = model.kl_surface_joints[k];
+    const std::string what = J.name;
+    const auto patch = std::find_if(kl_patches_.begin(), kl_patches_.end(),
+                                    [&](const KLPatchInstance& P) { return P.name == J.kl_shell; });
+    if (patch == kl_patches_.end()) fail(J.source, what, "no kl_shell named '" + J.kl_shell + "'");
+    const int body = build.find(J.body_a, J.source, what + ".body_a");
+    if (body >= 0 && node_kind(body) != NodeKind::frame)
+      fail(J.source, what + ".body_a",
+           fmt::format("'{}' is not a body or beam node: a joint at a shell point joins a frame "
+                       "node or the ground",
+                       J.body_a));
+    const geometry::NurbsSurface& g = patch->element->patch().reference();
+    const geometry::SurfaceBasis B = geometry::surface_basis(g, J.xi, J.eta);
+    std::vector<int> nodes;
+    if (body >= 0) nodes.push_back(body);
+    for (int a = 0; a < B.R.cols(); ++a)
+      if (B.R(0, a) != 0.0) nodes.push_back(patch->nodes[B.global_index(g, a)]);
+    const int off = body >= 0 ? 12 : 0;
+    MatX C = MatX::Zero(3, off + 3 * (static_cast<int>(nodes.size()) - (body >= 0 ? 1 : 0)));
+    int col = off;
+    for (int a = 0; a < B.R.cols(); ++a)
+      if (B.R(0, a) != 0.0) {
+        C.middleCols<3>(col) = B.R(0, a) * Mat3::Identity();
+        col += 3;
+      }
+    if (body >= 0) {
+      const Vec3 X = body_coordinates(body, J.point, std::nullopt);
+      C.leftCols<3>() = -Mat3::Identity();
+      for (int i = 0; i < 3; ++i) C.middleCols<3>(3 + 3 * i) = -X(i) * Mat3::Identity();
+    }
+    nary_.push_back({what, "spherical_at_shell_point",
+                     std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
+                     0});
+  }
 }
 
 // The spanning forest: breadth first from the ground, then from each node not yet reached (a
