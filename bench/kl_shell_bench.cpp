@@ -62,7 +62,7 @@
 #include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_static_solver.hpp"
+#include "isoflex/integrate/kl_static_problem.hpp"
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
 #include "isoflex/solve/linear_solver.hpp"

@@ -1,7 +1,8 @@
-// The static solver on a Kirchhoff–Love shell patch (integrate/kl_static_solver.hpp): the
-// clamped square plate under uniform pressure against Kirchhoff plate theory, elimination vs
-// multipliers, linear vs nonlinear kinematics at a small load. Built as its own executable
-// (test_kl_static) only when elements/kl_shell_patch.cpp exists (tests/CMakeLists.txt).
+// The static solver on a Kirchhoff–Love shell patch (integrate/static_newton.hpp on
+// integrate/kl_static_problem.hpp): the clamped square plate under uniform pressure against
+// Kirchhoff plate theory, elimination vs multipliers, linear vs nonlinear kinematics at a small
+// load. Built as its own executable (test_kl_static) only when elements/kl_shell_patch.cpp exists
+// (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +11,8 @@
 
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_static_solver.hpp"
+#include "isoflex/integrate/kl_static_problem.hpp"
+#include "isoflex/system/kl_boundary_conditions.hpp"
 #include "support/geometry.hpp"
 
 using namespace isoflex;
@@ -50,6 +52,13 @@ PatchLoads pressure(const geometry::NurbsSurface& s, double p) {
   return {std::make_shared<loads::DeadPressure>(s, p)};
 }
 
+// The static solver on the bare patch (no System): its provider with the patch's conditions.
+StaticNewtonSolver solver_of(const elements::KLShellPatch& patch, PatchLoads loads,
+                             const KLBoundaryConditions& bc, const StaticSettings& set,
+                             elements::KLKinematics kin = elements::KLKinematics::nonlinear) {
+  return StaticNewtonSolver(kl_static_problem(patch, std::move(loads), kin), bc.constraints(), set);
+}
+
 }  // namespace
 
 // Timoshenko & Woinowsky-Krieger, Table 35: clamped square plate, ν = 0.3: w = 0.00126 q a⁴/D.
@@ -59,7 +68,8 @@ TEST(KLStatic, ClampedSquarePlateCentreDeflection) {
   KLBoundaryConditions bc(s);
   for (PatchEdge e : {PatchEdge::u0, PatchEdge::u1, PatchEdge::v0, PatchEdge::v1}) bc.clamp_edge(e);
   StaticSettings set;
-  KLStaticSolver solver(patch, pressure(s, kQ), bc, set, elements::KLKinematics::linear);
+  StaticNewtonSolver solver =
+      solver_of(patch, pressure(s, kQ), bc, set, elements::KLKinematics::linear);
   const StaticResult res = solver.solve();
   ASSERT_EQ(res.steps.size(), 1u);
   EXPECT_EQ(res.steps[0].iterations, 1);
@@ -82,7 +92,8 @@ TEST(KLStatic, MultipliersMatchElimination) {
   }
   StaticSettings set;
   set.steps = 2;
-  KLStaticSolver a(patch, pressure(s, kQ), elim, set), b(patch, pressure(s, kQ), weak, set);
+  StaticNewtonSolver a = solver_of(patch, pressure(s, kQ), elim, set);
+  StaticNewtonSolver b = solver_of(patch, pressure(s, kQ), weak, set);
   const StaticResult ra = a.solve(), rb = b.solve();
   const double w = centre_deflection(s, ra.x);
   EXPECT_GT(std::abs(w), 1e-4);
@@ -98,8 +109,9 @@ TEST(KLStatic, NonlinearApproachesLinearAtSmallLoad) {
   for (PatchEdge e : {PatchEdge::u0, PatchEdge::u1, PatchEdge::v0, PatchEdge::v1}) bc.clamp_edge(e);
   const double q = 1e-3;
   StaticSettings set;
-  KLStaticSolver lin(patch, pressure(s, q), bc, set, elements::KLKinematics::linear);
-  KLStaticSolver non(patch, pressure(s, q), bc, set, elements::KLKinematics::nonlinear);
+  StaticNewtonSolver lin =
+      solver_of(patch, pressure(s, q), bc, set, elements::KLKinematics::linear);
+  StaticNewtonSolver non = solver_of(patch, pressure(s, q), bc, set);
   const double wl = centre_deflection(s, lin.solve().x);
   const StaticResult rn = non.solve();
   const double wn = centre_deflection(s, rn.x);
@@ -119,9 +131,10 @@ TEST(KLStatic, FollowerPressureLargeDeflection) {
   StaticSettings set;
   set.steps = 4;
   set.adaptive = true;
-  KLStaticSolver lin(patch, pressure(s, q), bc, set, elements::KLKinematics::linear);
+  StaticNewtonSolver lin =
+      solver_of(patch, pressure(s, q), bc, set, elements::KLKinematics::linear);
   PatchLoads follower{std::make_shared<loads::FollowerPressure>(s, q)};
-  KLStaticSolver non(patch, follower, bc, set, elements::KLKinematics::nonlinear);
+  StaticNewtonSolver non = solver_of(patch, follower, bc, set);
   const double wl = centre_deflection(s, lin.solve().x);
   const StaticResult rn = non.solve();
   const double wn = centre_deflection(s, rn.x);

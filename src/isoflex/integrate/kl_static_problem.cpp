@@ -1,4 +1,4 @@
-#include "isoflex/integrate/kl_static_solver.hpp"
+#include "isoflex/integrate/kl_static_problem.hpp"
 
 #include <fmt/format.h>
 
@@ -41,21 +41,5 @@ StaticProblem kl_static_problem(const elements::KLShellPatch& patch, PatchLoads 
   };
   return pb;
 }
-
-KLStaticSolver::KLStaticSolver(const elements::KLShellPatch& patch, PatchLoads loads,
-                               const KLBoundaryConditions& bcs, StaticSettings settings,
-                               elements::KLKinematics kinematics)
-    : KLStaticSolver(patch, std::move(loads), bcs.constraints(), std::move(settings), kinematics) {
-  if (bcs.dofs() != patch.dofs())
-    throw std::invalid_argument(
-        fmt::format("KLStaticSolver: boundary conditions for {} dofs, the patch has {}", bcs.dofs(),
-                    patch.dofs()));
-}
-
-KLStaticSolver::KLStaticSolver(const elements::KLShellPatch& patch, PatchLoads loads,
-                               LinearConstraints constraints, StaticSettings settings,
-                               elements::KLKinematics kinematics)
-    : solver_(kl_static_problem(patch, std::move(loads), kinematics), std::move(constraints),
-              std::move(settings)) {}
 
 }  // namespace isoflex::integrate
