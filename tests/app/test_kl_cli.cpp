@@ -161,9 +161,19 @@ TEST(KLCli, BadInputExitsWith2) {
   r = run("check " + (d / "cad.yaml").string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("cad.yaml:3: surfaces[0].cad.patch:"), std::string::npos) << r.out;
-  // A dynamic analysis has no time-dependent constraints: a prescribed displacement is static only.
+  // A dynamic analysis needs the shell's mass: without a density the static plate run as dynamic
+  // is refused (it would give a wrong answer silently).
   std::string dynamic = plate();
   dynamic.replace(dynamic.find("analysis: static"), 16, "analysis: dynamic");
+  std::ofstream(d / "m.yaml") << dynamic;
+  r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("m.yaml:8: kl_shells[0].material.density: a dynamic run needs the shell's "
+                       "mass"),
+            std::string::npos)
+      << r.out;
+  // And has no time-dependent constraints: a prescribed displacement is static only.
+  dynamic.replace(dynamic.find("thickness: 0.01}"), 16, "thickness: 0.01, density: 1}");
   dynamic.replace(dynamic.find("fixed: all"), 10, "displacement: [0, 0, \"t\"]");
   std::ofstream(d / "m.yaml") << dynamic;
   r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());

@@ -99,6 +99,10 @@ void System::add_kl_patches(const model::Model& m) {
     fail(m.kl_shells[1].source, "kl_shells[1]",
          "one Kirchhoff–Love patch per model for now (multipatch coupling is not built yet)");
   const model::KLShell& S = m.kl_shells.front();
+  if (m.solver.analysis == model::Analysis::dynamic && !(S.density > 0.0))
+    fail(S.source, "kl_shells[0].material.density",
+         "a dynamic run needs the shell's mass: give a density > 0, or solver.analysis: static "
+         "for its equilibrium");
   KLPatchInstance inst;
   inst.name = S.name;
   auto patch = kl_patch(m, 0);
