@@ -23,14 +23,17 @@ using namespace isoflex;
 
 namespace {
 
-constexpr const char* kPlate = R"yaml(solver: {dt: 0.01, t_end: 0.6}
+// A free bicubic plate 1 × 0.5 (2 × 1 elements), the part both models share.
+constexpr const char* kFreePlate = R"yaml(solver: {dt: 0.01, t_end: 0.6}
 surfaces:
   - name: sheet
     builtin: {type: rectangle, size: [1, 0.5]}
     refine: {elevate: [2, 2], knots_per_span: [1, 0]}
 kl_shells:
   - {name: plate, surface: sheet, material: {E: 1.0e4, nu: 0.3, thickness: 0.05, density: 1000}}
-kl_supports:
+)yaml";
+
+constexpr const char* kPlate = R"yaml(kl_supports:
   - {shell: plate, edge: u0, fixed: [z]}
   - {shell: plate, edge: v0, symmetry: [0, 1, 0]}
 kl_loads:
@@ -40,7 +43,7 @@ probes:
 )yaml";
 
 model::Model plate() {
-  return io::read_model_string(kPlate, "plate.yaml");
+  return io::read_model_string(std::string(kFreePlate) + kPlate, "plate.yaml");
 }
 
 }  // namespace
@@ -96,14 +99,7 @@ TEST(NaryConstraints, PulsedPlateKeepsTheRowsConservesEnergyInEveryFormulation) 
 
 namespace {
 
-constexpr const char* kBall = R"yaml(solver: {dt: 0.01, t_end: 0.6}
-surfaces:
-  - name: sheet
-    builtin: {type: rectangle, size: [1, 0.5]}
-    refine: {elevate: [2, 2], knots_per_span: [1, 0]}
-kl_shells:
-  - {name: plate, surface: sheet, material: {E: 1.0e4, nu: 0.3, thickness: 0.05, density: 1000}}
-bodies:
+constexpr const char* kBall = R"yaml(bodies:
   - {name: ball, mass: 5, inertia: [0.02, 0.02, 0.02], position: [1.1, 0.3, 0.05]}
 joints:
   - {name: hinge, type: TYPE, body_a: ball, body_b: plate, point: [0.7, 0.3, 0]}
@@ -116,7 +112,7 @@ probes:
 )yaml";
 
 std::string ball(const std::string& type) {
-  std::string text = kBall;
+  std::string text = std::string(kFreePlate) + kBall;
   text.replace(text.find("TYPE"), 4, type);
   return text;
 }
