@@ -1,40 +1,73 @@
-// The shared Newton loop (integrate/newton_loop.hpp): how it reports a failure. A residual that
+// The one Newton loop (integrate/newton_loop.hpp): how it reports a failure. A residual that
 // grows by orders of magnitude is reported as diverged, with the scale of the start value (a
 // diverged iterate's scale would be meaningless); one that merely runs out of iterations is not.
+// Skipping the last Newton matrix by the quadratic-convergence prediction leaves the iterates
+// unchanged.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "isoflex/integrate/newton_loop.hpp"
 
 using namespace isoflex;
+using integrate::NewtonOptions;
+using integrate::NewtonOutcome;
 
 namespace {
 
 // Newton on r(x) = ∛x (one unknown): every correction overshoots, x_{k+1} = −2 x_k, and |r|
 // grows by 2^{1/3} per iteration; scale 2 (as the energy–momentum step's, fixed by the model).
-std::string failure(double x0, int max_iterations) {
-  model::Solver settings;
-  settings.max_iterations = max_iterations;
-  settings.residual_tolerance = 1e-14;
-  settings.increment_tolerance = 1e-300;
-  VecX x = VecX::Constant(1, x0);
-  double slope = 1.0;
-  try {
-    integrate::newton_loop(
-        x, settings, 1.0, "step 7",
-        [&](const VecX& y, bool) {
-          slope = 1.0 / (3.0 * std::cbrt(y(0) * y(0)));
-          return VecX::Constant(1, std::cbrt(y(0)));
-        },
-        [&](const VecX& R) { return VecX::Constant(1, -R(0) / slope); },
-        [&](const VecX&) { return 2.0; }, [&](const VecX& dx) { return std::abs(dx(0)); });
-  } catch (const integrate::NewtonFailure& e) {
-    return e.what();
-  }
-  return "";
+NewtonOutcome cube_root(double x0, const NewtonOptions& opt) {
+  double x = x0, slope = 1.0;
+  return integrate::newton_loop(
+      opt,
+      [&](bool) {
+        slope = 1.0 / (3.0 * std::cbrt(x * x));
+        return VecX::Constant(1, std::cbrt(x));
+      },
+      [] { return 2.0; },
+      [&](const VecX& R) {
+        x -= R(0) / slope;
+        return false;
+      });
 }
+
+std::string failure(double x0, int max_iterations, bool stop_when_diverging = false) {
+  NewtonOptions opt;
+  opt.max_iterations = max_iterations;
+  opt.residual_tolerance = 1e-14;
+  opt.stop_when_diverging = stop_when_diverging;
+  const NewtonOutcome o = cube_root(x0, opt);
+  EXPECT_FALSE(o.converged);
+  return integrate::failure_message("step 7", o, opt.residual_tolerance);
+}
+
+// Newton on r(x) = x³ − 8 from x = 3, counting the matrices it asks for.
+struct Cubic {
+  double x = 3.0;
+  int matrices = 0;
+  std::vector<double> iterates;
+  NewtonOutcome run(bool predict) {
+    NewtonOptions opt;
+    opt.max_iterations = 50;
+    opt.residual_tolerance = 1e-13;
+    opt.predict_last_matrix = predict;
+    return integrate::newton_loop(
+        opt,
+        [&](bool matrix) {
+          matrices += matrix;
+          return VecX::Constant(1, x * x * x - 8.0);
+        },
+        [] { return 8.0; },
+        [&](const VecX& R) {
+          x -= R(0) / (3.0 * x * x);
+          iterates.push_back(x);
+          return false;
+        });
+  }
+};
 
 }  // namespace
 
@@ -52,8 +85,43 @@ TEST(NewtonLoop, ADivergingIterationSaysSo) {
 TEST(NewtonLoop, RunningOutOfIterationsIsNotDivergence) {
   // 10 iterations: the residual grows by 2^{10/3} ≈ 10 only (1.442 → 14.54): not diverged.
   const std::string msg = failure(3.0, 10);
-  EXPECT_NE(msg.find("step 7: Newton did not converge in 10 iterations; residual 1.454e+01"),
+  EXPECT_NE(msg.find("step 7: Newton did not converge; residual 1.454e+01 after 10 iterations"),
             std::string::npos)
       << msg;
   EXPECT_EQ(msg.find("diverged"), std::string::npos) << msg;
+}
+
+TEST(NewtonLoop, LoadStepsStopAsSoonAsTheResidualGrewBySixOrders) {
+  // 2^{k/3} > 10⁶ first at k = 60.
+  const std::string msg = failure(3.0, 70, true);
+  EXPECT_NE(msg.find("Newton diverged: the residual grew from 1.442e+00 to 1.5"), std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("in 60 iterations"), std::string::npos) << msg;
+}
+
+TEST(NewtonLoop, AModelErrorFailsTheIterationWithItsMessage) {
+  NewtonOptions opt;
+  int calls = 0;
+  const NewtonOutcome o = integrate::newton_loop(
+      opt,
+      [&](bool) -> VecX {
+        if (++calls == 2) throw std::runtime_error("element 3 inverted");
+        return VecX::Constant(1, 1.0);
+      },
+      [] { return 1.0; }, [](const VecX&) { return false; });
+  EXPECT_FALSE(o.converged);
+  EXPECT_EQ(o.reason, "evaluation failed at Newton iteration 1: element 3 inverted");
+}
+
+TEST(NewtonLoop, PredictingTheLastMatrixKeepsTheIterates) {
+  Cubic plain, predicted;
+  const NewtonOutcome a = plain.run(false), b = predicted.run(true);
+  ASSERT_TRUE(a.converged);
+  ASSERT_TRUE(b.converged);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(plain.iterates, predicted.iterates);
+  EXPECT_EQ(a.residual, b.residual);
+  // The matrix at the converged iterate is never asked for: one matrix per correction.
+  EXPECT_EQ(plain.matrices, a.iterations + 1);
+  EXPECT_EQ(predicted.matrices, b.iterations);
 }

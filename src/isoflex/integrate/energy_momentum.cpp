@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "isoflex/integrate/newton_loop.hpp"
+#include "isoflex/integrate/step_subdivision.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::integrate {
@@ -318,8 +318,6 @@ VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) 
 }
 
 StepStats EnergyMomentumIntegrator::step(State& s) const {
-  // Each part of a subdivided step is itself an energy–momentum step, so the conservation
-  // properties hold whatever the subdivision; only the time nodes in between are not written.
   return whole_step(
       s, [&](double dt) { return attempt(s, dt); }, settings_.dt, settings_.max_subdivisions);
 }
@@ -342,29 +340,40 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const std::vector<Predictor> starts =
       have ? std::vector{Predictor::extrapolated, Predictor::at_rest, Predictor::secant}
            : std::vector{Predictor::at_rest};
+  NewtonOptions opt;
+  opt.max_iterations = settings_.max_iterations;
+  opt.residual_tolerance = settings_.residual_tolerance;
+  // No prediction of the last matrix here: at ~4 iterations per step it fails often enough that
+  // the re-evaluation costs more than it saves (+2.0 % instructions on the slider-crank, +0.8 %
+  // on kl_free_plate, callgrind; the iterates are the same either way).
   VecX x;
   StepStats st;
   int spent = 0;
   for (std::size_t k = 0; k < starts.size(); ++k) {
     x = start_unknowns(s, dt, starts[k]);
-    try {
-      st = newton_loop(
-          x, settings_, qscale, fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt),
-          [&](const VecX& y, bool matrix) { return evaluate(c, y, matrix ? &J : nullptr, fast); },
-          [&](const VecX& R) { return correction(J, R); }, [&](const VecX&) { return ref; },
-          [&](const VecX& dx) {
-            // Configuration units for every formulation (positions; u moves material points by
-            // about |u| times the size of the system).
-            return settings_.formulation == F::constrained
-                       ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
-                       : dx.lpNorm<Eigen::Infinity>() *
-                             (settings_.formulation == F::reparametrized ? qscale : 1.0);
-          });
+    const NewtonOutcome o = newton_loop(
+        opt, [&](bool matrix) { return evaluate(c, x, matrix ? &J : nullptr, fast); },
+        [&] { return ref; },
+        [&](const VecX& R) {
+          const VecX dx = correction(J, R);
+          x += dx;
+          // Configuration units for every formulation (positions; u moves material points by
+          // about |u| times the size of the system).
+          const double size = settings_.formulation == F::constrained
+                                  ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
+                                  : dx.lpNorm<Eigen::Infinity>() *
+                                        (settings_.formulation == F::reparametrized ? qscale : 1.0);
+          return size <= settings_.increment_tolerance * qscale;
+        });
+    if (o.converged) {
+      st.iterations = o.iterations;
+      st.residual = o.residual;
       break;
-    } catch (const NewtonFailure&) {
-      if (k + 1 == starts.size()) throw;
-      spent += settings_.max_iterations;
     }
+    if (k + 1 == starts.size())
+      throw NewtonFailure(failure_message(
+          fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt), o, opt.residual_tolerance));
+    spent += settings_.max_iterations;
   }
   st.iterations += spent;
   const VecX q1 = configuration(c, x);

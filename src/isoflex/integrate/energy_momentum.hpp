@@ -18,6 +18,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/integrate/reduced_newton_matrix.hpp"
 #include "isoflex/integrate/snapshot.hpp"
 #include "isoflex/model/model.hpp"
@@ -26,11 +27,6 @@
 #include "isoflex/system/tree_newton_solver.hpp"
 
 namespace isoflex::integrate {
-
-class NewtonFailure : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct State {
   int step = 0;

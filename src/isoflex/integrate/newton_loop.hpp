@@ -1,97 +1,143 @@
 #pragma once
-// The Newton iteration shared by the time step (EnergyMomentumIntegrator) and the load step
-// (StaticEquilibrium), with the convergence tests of docs/theory/schemes.md §6: ‖R‖∞ ≤
-// residual_tolerance · scale, or a correction at round-off level (‖Δ‖ ≤ increment_tolerance ·
-// qscale in configuration units; its error is its square). Throws NewtonFailure with `where`
-// ("step 12 (t = 0.12)") and how far the residual got.
+// The one Newton iteration of isoflex: the time step of EnergyMomentumIntegrator and the load
+// step of StaticNewtonSolver (every static model) run this loop, with the convergence tests of
+// docs/theory/schemes.md §6:
+//   • ‖R‖∞ ≤ residual_tolerance · scale (the scale is the caller's: momentum terms in a time
+//     step, forces and reactions in a load step), or
+//   • a correction at round-off level (the caller measures it in configuration units; its error
+//     is its square), after which the residual is evaluated once more and reported.
+// A residual that grows by six orders of magnitude (or overflows) diverged; its scale would be the
+// diverged iterate's, so the scale at the start is reported. A failure is an outcome, not an
+// exception: the time step retries from other predictors or in halves, the load step in smaller
+// increments; `failure_message` words it the same way for both.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/math/types.hpp"
 
 namespace isoflex::integrate {
 
-// residual(x, with_matrix) → R (keeping the Newton matrix when asked); correction(R) → Δx;
-// scale(x) → the residual scale; increment(Δx) → the size of Δx in configuration units.
-// A step of length dt by `attempt(dt)` (which leaves the state unchanged when it throws
-// NewtonFailure), retried as two halves on failure while fewer than max_subdivisions halvings
-// deep: the time steps of EnergyMomentumIntegrator and the load increments of StaticEquilibrium.
-template <class Attempt>
-StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int depth = 0) {
-  try {
-    return attempt(dt);
-  } catch (const NewtonFailure&) {
-    if (depth >= max_subdivisions) throw;
-  }
-  const StepStats a = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
-  const StepStats b = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
-  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
-}
+class NewtonFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
-// One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, and a
-// failure (after a converged part, too) leaves s as it was.
-template <class Attempt>
-StepStats whole_step(State& s, Attempt&& attempt, double dt, int max_subdivisions) {
-  const State start = s;
-  try {
-    const StepStats st = subdivided(attempt, dt, max_subdivisions);
-    s.step = start.step + 1;
-    return st;
-  } catch (const NewtonFailure&) {
-    s = start;
-    throw;
-  }
-}
+struct NewtonOptions {
+  int max_iterations = 25;
+  double residual_tolerance = 1e-10;
+  // Stop as soon as the residual grew by 10⁶ (load steps, where a diverging iterate soon leaves
+  // the domain of the model); otherwise a growing residual gets every iteration, as the violent
+  // first corrections of thin shells in a time step can still converge.
+  bool stop_when_diverging = false;
+  // Skip the Newton matrix where quadratic convergence predicts the next residual to be the last
+  // (‖R_k‖ ≈ ‖R_{k−1}‖ (‖R_{k−1}‖/‖R_{k−2}‖)² below the tolerance); if the prediction fails it is
+  // evaluated at the same iterate, so the iterates do not change.
+  bool predict_last_matrix = false;
+};
 
-template <class Residual, class Correction, class Scale, class Increment>
-StepStats newton_loop(VecX& x, const model::Solver& settings, double qscale,
-                      const std::string& where, Residual&& residual, Correction&& correction,
-                      Scale&& scale, Increment&& increment) {
-  StepStats st;
-  double ref = 1.0;
-  double first = 0.0, first_ref = 1.0;  // at the start value: the model's scale, not a diverged one
-  for (int it = 0; it <= settings.max_iterations; ++it) {
-    const VecX R = residual(x, true);
-    st.residual = R.lpNorm<Eigen::Infinity>();
-    st.iterations = it;
-    if (!std::isfinite(st.residual)) break;
-    ref = scale(x);
-    if (it == 0) {
-      first = st.residual;
-      first_ref = ref;
-    }
-    if (st.residual <= settings.residual_tolerance * ref) return st;
-    if (it == settings.max_iterations) break;
-    VecX dx;
+struct NewtonOutcome {
+  bool converged = false;
+  int iterations = 0;     // corrections applied
+  double residual = 0.0;  // ‖R‖∞ at the last evaluation
+  double scale = 0.0;     // the residual scale (at the start of the iteration if it diverged)
+  double first_residual = 0.0;
+  std::string reason;  // why it failed: "Newton did not converge in 25 iterations", …
+};
+
+// residual(with_matrix) → R at the current iterate, the Newton matrix kept when asked (a
+// std::runtime_error from the model fails the iteration); scale() → the residual scale at the
+// iterate just evaluated; correct(R) applies Δ = −A⁻¹R to the iterate and says whether Δ was at
+// round-off level (an exception fails the iteration). history, if given, receives ‖R‖∞ of
+// every evaluation.
+template <class Residual, class Scale, class Correct>
+NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&& scale,
+                          Correct&& correct, std::vector<double>* history = nullptr) {
+  NewtonOutcome out;
+  double first_scale = 0.0, r_prev = 0.0, r_prev2 = 0.0;
+  auto evaluate = [&](bool with_matrix, int it, bool record) {
     try {
-      dx = correction(R);
-    } catch (const std::exception& e) {
-      throw NewtonFailure(fmt::format("{}: {} at Newton iteration {}, residual {:.3e}", where,
-                                      e.what(), it + 1, st.residual));
+      const VecX R = residual(with_matrix);
+      out.residual = R.size() ? R.template lpNorm<Eigen::Infinity>() : 0.0;
+      if (history && record) history->push_back(out.residual);
+      return R;
+    } catch (const NewtonFailure&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      out.reason = fmt::format("evaluation failed at Newton iteration {}: {}", it, e.what());
+      return VecX();
     }
-    x += dx;
-    if (increment(dx) <= settings.increment_tolerance * qscale) {
-      st.iterations = it + 1;
-      const VecX R_final = residual(x, false);
-      st.residual = R_final.lpNorm<Eigen::Infinity>();
-      if (std::isfinite(st.residual)) return st;
-      break;
+  };
+  for (int it = 0;; ++it) {
+    out.iterations = it;
+    bool with_matrix = it < opt.max_iterations;
+    if (with_matrix && opt.predict_last_matrix && it >= 2 && r_prev2 > 0.0)
+      with_matrix = !(r_prev < r_prev2 && r_prev * (r_prev / r_prev2) * (r_prev / r_prev2) <=
+                                              opt.residual_tolerance * out.scale);
+    const VecX R = evaluate(with_matrix, it, true);
+    if (!out.reason.empty()) return out;
+    out.scale = scale();
+    if (it == 0) {
+      out.first_residual = out.residual;
+      first_scale = out.scale;
+    }
+    const bool diverged =
+        !std::isfinite(out.residual) || out.residual > 1e6 * std::max(out.first_residual, 1e-300);
+    if (diverged && (opt.stop_when_diverging || !std::isfinite(out.residual))) break;
+    if (out.residual <= opt.residual_tolerance * out.scale || out.residual == 0.0) {
+      out.converged = true;
+      return out;
+    }
+    if (it == opt.max_iterations) break;
+    if (!with_matrix) {  // the prediction failed: the matrix after all, at the same iterate
+      evaluate(true, it, false);
+      if (!out.reason.empty()) return out;
+    }
+    r_prev2 = r_prev;
+    r_prev = out.residual;
+    bool small = false;
+    try {
+      small = correct(R);
+    } catch (const std::exception& e) {
+      out.reason =
+          fmt::format("the Newton correction failed at iteration {}: {}", it + 1, e.what());
+      return out;
+    }
+    if (small) {
+      out.iterations = it + 1;
+      evaluate(false, it + 1, true);
+      if (!out.reason.empty()) return out;
+      out.converged = std::isfinite(out.residual);
+      if (!out.converged) break;
+      return out;
     }
   }
-  // A residual that grew by orders of magnitude (or overflowed) diverged; its scale would be the
-  // diverged iterate's, so the start value's is reported.
-  if (!std::isfinite(st.residual) || st.residual > 1e6 * std::max(first, 1e-300))
-    throw NewtonFailure(fmt::format(
-        "{}: Newton diverged: the residual grew from {:.3e} to {:.3e} in {} iterations "
-        "(tolerance {:.1e} x scale {:.3e} at the start)",
-        where, first, st.residual, st.iterations, settings.residual_tolerance, first_ref));
-  throw NewtonFailure(fmt::format(
-      "{}: Newton did not converge in {} iterations; residual {:.3e} (tolerance {:.1e} x scale "
-      "{:.3e})",
-      where, st.iterations, st.residual, settings.residual_tolerance, ref));
+  if (!std::isfinite(out.residual) || out.residual > 1e6 * std::max(out.first_residual, 1e-300)) {
+    out.reason =
+        fmt::format("Newton diverged: the residual grew from {:.3e} to {:.3e} in {} iterations",
+                    out.first_residual, out.residual, out.iterations);
+    out.scale = first_scale;
+  } else {
+    out.reason = "Newton did not converge";
+  }
+  return out;
+}
+
+// "{where}: {reason}; residual … after … iterations (tolerance … x scale …)".
+inline std::string failure_message(const std::string& where, const NewtonOutcome& o,
+                                   double residual_tolerance) {
+  const bool diverged = o.reason.rfind("Newton diverged", 0) == 0;
+  if (diverged)
+    return fmt::format("{}: {} (tolerance {:.1e} x scale {:.3e} at the start)", where, o.reason,
+                       residual_tolerance, o.scale);
+  return fmt::format(
+      "{}: {}; residual {:.3e} after {} iterations (tolerance {:.1e} x scale {:.3e})", where,
+      o.reason, o.residual, o.iterations, residual_tolerance, o.scale);
 }
 
 }  // namespace isoflex::integrate

@@ -22,7 +22,7 @@
 // the mass data are ignored.
 #include <memory>
 
-#include "isoflex/integrate/energy_momentum.hpp"  // NewtonFailure
+#include "isoflex/integrate/newton_loop.hpp"  // NewtonFailure
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/model/model.hpp"
 #include "isoflex/system/system.hpp"

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "isoflex/integrate/energy_momentum.hpp"  // NewtonFailure
+#include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::integrate {
@@ -24,16 +24,6 @@ double seconds_since(Clock::time_point t0) {
 double inf_norm(const VecX& v) {
   return v.size() ? v.lpNorm<Eigen::Infinity>() : 0.0;
 }
-
-// Why one Newton iteration did not converge.
-struct NewtonOutcome {
-  bool converged = false;
-  int iterations = 0;
-  double residual = 0.0;
-  double scale = 0.0;
-  std::string reason;
-  double first_residual = 0.0, first_scale = 0.0;  // at the start of the step
-};
 
 }  // namespace
 
@@ -187,96 +177,41 @@ struct StaticNewtonSolver::Impl {
 
   // Newton at the load parameter t from (x, μ); x's eliminated dofs are set here.
   NewtonOutcome newton(VecX& x, VecX& mu, double t, LoadStepStats& st) {
-    NewtonOutcome out;
     set_prescribed(x, t);
     const double xscale =
         std::max({inf_norm(configuration(x)), inf_norm(configuration(problem.reference)), 1e-300});
-    const int max_it = problem.linear ? 1 : settings.max_iterations;
+    NewtonOptions opt;
+    opt.max_iterations = problem.linear ? 1 : settings.max_iterations;
+    opt.residual_tolerance = settings.residual_tolerance;
+    opt.stop_when_diverging = true;
+    opt.predict_last_matrix = true;
     double scale = 0.0;
-    for (int it = 0;; ++it) {
-      // The tangent at the iterate that converges is never used. Where Newton is expected to stop
-      // here — quadratic convergence predicts ‖R_k‖ ≈ ‖R_{k−1}‖ (‖R_{k−1}‖/‖R_{k−2}‖)², and that is
-      // below the tolerance — the residual is evaluated alone, and the tangent only if the iterate
-      // does not converge after all (same x, so the same residual; the iterates do not change).
-      bool with_tangent = it < max_it;
-      const auto& h = st.residual_history;
-      if (with_tangent && it >= 2 && h.size() >= 2) {
-        const double r1 = h[h.size() - 2], r2 = h.back();
-        with_tangent =
-            !(r2 < r1 && r2 * (r2 / r1) * (r2 / r1) <= settings.residual_tolerance * scale);
-      }
-      try {
-        evaluate(x, t, with_tangent, st);
-      } catch (const std::runtime_error& e) {
-        out.reason = fmt::format("evaluation failed: {}", e.what());
-        return out;
-      }
-      const VecX R = reduced_residual(x, mu, t, scale);
-      out.residual = inf_norm(R);
-      out.scale = scale;
-      out.iterations = it;
-      st.residual_history.push_back(out.residual);
-      if (it == 0) {
-        out.first_residual = out.residual;
-        out.first_scale = scale;
-      }
-      if (!std::isfinite(out.residual) ||
-          out.residual > 1e6 * std::max(out.first_residual, 1e-300)) {
-        // Diverged: the scale of the diverged iterate would hide it; report the start's.
-        out.reason = fmt::format(
-            "Newton diverged: the residual grew from {:.3e} to {:.3e} in {} "
-            "iterations",
-            out.first_residual, out.residual, it);
-        out.scale = out.first_scale;
-        return out;
-      }
-      if (out.residual <= settings.residual_tolerance * scale || out.residual == 0.0 ||
-          (problem.linear && it == 1)) {
-        out.converged = true;
-        return out;
-      }
-      if (it == max_it) {
-        out.reason = fmt::format("no convergence in {} iterations", it);
-        return out;
-      }
-      if (!with_tangent) {  // the prediction failed: the tangent after all
-        try {
-          evaluate(x, t, true, st);
-        } catch (const std::runtime_error& e) {
-          out.reason = fmt::format("evaluation failed: {}", e.what());
-          return out;
-        }
-      }
-      VecX dz;
-      const auto t0 = Clock::now();
-      try {
-        dz = linear_solve(A, -R);
-      } catch (const std::exception& e) {
-        st.solve_seconds += seconds_since(t0);
-        out.reason = fmt::format("linear solve failed at iteration {}: {}", it + 1, e.what());
-        return out;
-      }
-      st.solve_seconds += seconds_since(t0);
-      for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
-      if (m > 0) mu += dz.tail(m);
-      if (!problem.linear &&
-          inf_norm(dz.head(nf_configuration)) <=
-              settings.increment_tolerance * std::max(xscale, inf_norm(configuration(x)))) {
-        // Round-off-level correction: its error is its square; report the final residual.
-        try {
-          evaluate(x, t, false, st);
-        } catch (const std::runtime_error& e) {
-          out.reason = fmt::format("evaluation failed: {}", e.what());
-          return out;
-        }
-        out.residual = inf_norm(reduced_residual(x, mu, t, scale));
-        out.iterations = it + 1;
-        st.residual_history.push_back(out.residual);
-        out.converged = std::isfinite(out.residual);
-        if (!out.converged) out.reason = "non-finite residual";
-        return out;
-      }
-    }
+    return newton_loop(
+        opt,
+        [&](bool with_matrix) {
+          evaluate(x, t, with_matrix, st);
+          return reduced_residual(x, mu, t, scale);
+        },
+        [&] { return scale; },
+        [&](const VecX& R) {
+          const auto t0 = Clock::now();
+          VecX dz;
+          try {
+            dz = linear_solve(A, -R);
+          } catch (...) {
+            st.solve_seconds += seconds_since(t0);
+            throw;
+          }
+          st.solve_seconds += seconds_since(t0);
+          for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
+          if (m > 0) mu += dz.tail(m);
+          // A linear problem is solved by one correction; otherwise a round-off-level correction
+          // ends the iteration (its error is its square).
+          return problem.linear ||
+                 inf_norm(dz.head(nf_configuration)) <=
+                     settings.increment_tolerance * std::max(xscale, inf_norm(configuration(x)));
+        },
+        &st.residual_history);
   }
 };
 
@@ -397,13 +332,12 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
       // otherwise shrink without bound).
       const int depth = static_cast<int>(std::lround(std::log2(dt_nominal / dt_try)));
       if (!s.adaptive || depth >= s.max_cuts) {
-        throw NewtonFailure(fmt::format(
-            "static load stepping: load step {} did not converge at load factor {:.6g} (load "
-            "factor reached {:.6g}, increment {:.3g}{}): {}; residual {:.3e} after {} "
-            "iterations (tolerance {:.1e} x scale {:.3e})",
-            st.step, t_try, t, dt_try,
-            cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string(), out.reason,
-            out.residual, out.iterations, s.residual_tolerance, out.scale));
+        throw NewtonFailure(failure_message(
+            fmt::format("static load stepping: load step {} did not converge at load factor {:.6g} "
+                        "(load factor reached {:.6g}, increment {:.3g}{})",
+                        st.step, t_try, t, dt_try,
+                        cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string()),
+            out, s.residual_tolerance));
       }
       dt = 0.5 * dt_try;
       ++cuts;

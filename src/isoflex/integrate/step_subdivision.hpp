@@ -1,0 +1,38 @@
+#pragma once
+// A step of length dt by `attempt(dt)` (which leaves the state unchanged when it throws
+// NewtonFailure), retried as two halves on failure while fewer than max_subdivisions halvings
+// deep: the time steps of every integrator. Each part of a subdivided energy–momentum step is
+// itself such a step, so the conservation properties hold whatever the subdivision; only the
+// time nodes in between are not written.
+#include "isoflex/integrate/energy_momentum.hpp"
+
+namespace isoflex::integrate {
+
+template <class Attempt>
+StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int depth = 0) {
+  try {
+    return attempt(dt);
+  } catch (const NewtonFailure&) {
+    if (depth >= max_subdivisions) throw;
+  }
+  const StepStats a = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
+  const StepStats b = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
+  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
+}
+
+// One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, and a
+// failure (after a converged part, too) leaves s as it was.
+template <class Attempt>
+StepStats whole_step(State& s, Attempt&& attempt, double dt, int max_subdivisions) {
+  const State start = s;
+  try {
+    const StepStats st = subdivided(attempt, dt, max_subdivisions);
+    s.step = start.step + 1;
+    return st;
+  } catch (const NewtonFailure&) {
+    s = start;
+    throw;
+  }
+}
+
+}  // namespace isoflex::integrate
