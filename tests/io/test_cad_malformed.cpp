@@ -1,6 +1,6 @@
 // io::read_cad on malformed files (tests/data/cad/malformed/, made from the quarter cylinder of
 // the shared CAD data; README there): OpenCASCADE's crashes stay in the reading child process and
-// become located errors, bare exception names are wrapped.
+// become located errors, non-positive weights are errors, bare exception names are wrapped.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -93,6 +93,26 @@ TEST(CadMalformed, ReadBeyondTheTimeLimitIsStopped) {
         << e.message();
   }
   std::filesystem::remove(fifo);
+}
+
+// OCCT's IGES transfer replaced the weights of such a surface by 1 ("non-rational, fit for a
+// Kirchhoff–Love shell": a different surface); its STEP transfer dropped the face ("holds no
+// faces").
+TEST(CadMalformed, NonPositiveWeightsAreLocatedErrors) {
+  EXPECT_EQ(cad_error(kBad + "iges_128_weight_zero.igs"),
+            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) is 0; NURBS weights "
+            "must be positive (i along u, counted from 0)");
+  EXPECT_EQ(cad_error(kBad + "iges_128_weight_negative.igs"),
+            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) is -1; NURBS weights "
+            "must be positive (i along u, counted from 0)");
+  const std::string zero = cad_error(kBad + "step_weight_zero.stp");
+  EXPECT_EQ(zero.rfind("STEP #32 (surface of face #", 0), 0u) << zero;
+  EXPECT_TRUE(contains(zero,
+                       "): weight of control point (i, j) = (1, 1) is 0; NURBS weights "
+                       "must be positive"))
+      << zero;
+  const std::string negative = cad_error(kBad + "step_weight_negative.stp");
+  EXPECT_TRUE(contains(negative, "weight of control point (i, j) = (1, 2) is -1;")) << negative;
 }
 
 // A count of 2·10⁹ control points: the message was only "std::bad_alloc".

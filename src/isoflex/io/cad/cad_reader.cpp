@@ -33,6 +33,7 @@
 #include "isoflex/io/cad/face_trimming.hpp"
 #include "isoflex/io/cad/occt_messages.hpp"
 #include "isoflex/io/cad/occt_nurbs.hpp"
+#include "isoflex/io/cad/surface_weights.hpp"
 
 namespace isoflex::io {
 
@@ -256,7 +257,8 @@ CadPatch make_patch(const XSControl_Reader& reader, const TopoDS_Face& face, int
   return p;
 }
 
-// Parses the file into the reader's model; throws CadError with OCCT's first failure message.
+// Parses the file into the reader's model and checks what OCCT's transfer would hide; throws
+// CadError with OCCT's first failure message.
 void parse(XSControl_Reader& reader, const CadModel& model,
            const detail::OcctMessageCapture& messages, Stages& stages) {
   const std::string name = model.file.string();
@@ -270,6 +272,8 @@ void parse(XSControl_Reader& reader, const CadModel& model,
   if (reader.Model().IsNull() || reader.Model()->NbEntities() == 0)
     throw CadError(
         name, "cannot be read as " + format + ": no entities found (not an " + format + " file?)");
+  stages.enter("checking the weights of the " + format + " B-spline surfaces");
+  detail::check_surface_weights(reader, model.file);
 }
 
 // Transfers every root and makes one patch per distinct face, in the order of the file.
