@@ -95,24 +95,31 @@ TEST(CadMalformed, ReadBeyondTheTimeLimitIsStopped) {
   std::filesystem::remove(fifo);
 }
 
-// OCCT's IGES transfer replaced the weights of such a surface by 1 ("non-rational, fit for a
+// OCCT's IGES parser replaced the weights of such a surface by 1 ("non-rational, fit for a
 // Kirchhoff–Love shell": a different surface); its STEP transfer dropped the face ("holds no
 // faces").
 TEST(CadMalformed, NonPositiveWeightsAreLocatedErrors) {
   EXPECT_EQ(cad_error(kBad + "iges_128_weight_zero.igs"),
-            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) is 0; NURBS weights "
-            "must be positive (i along u, counted from 0)");
+            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) (i along u, from 0) is "
+            "0; NURBS weights must be positive");
   EXPECT_EQ(cad_error(kBad + "iges_128_weight_negative.igs"),
-            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) is -1; NURBS weights "
-            "must be positive (i along u, counted from 0)");
+            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) (i along u, from 0) is "
+            "-1; NURBS weights must be positive");
+  // OCCT's parser sets all weights to 1 below 1e-9, so a tiny positive weight is refused too.
+  EXPECT_EQ(cad_error(kBad + "iges_128_weight_1e-12.igs"),
+            "IGES entity 128 (D3): weight of control point (i, j) = (2, 0) (i along u, from 0) is "
+            "1e-12; OpenCASCADE's IGES reader would replace all weights of the surface by 1 "
+            "(weights below 1e-9)");
   const std::string zero = cad_error(kBad + "step_weight_zero.stp");
   EXPECT_EQ(zero.rfind("STEP #32 (surface of face #", 0), 0u) << zero;
   EXPECT_TRUE(contains(zero,
-                       "): weight of control point (i, j) = (1, 1) is 0; NURBS weights "
-                       "must be positive"))
+                       "): weight of control point (i, j) = (1, 1) (i along u, from 0) is 0; "
+                       "NURBS weights must be positive"))
       << zero;
   const std::string negative = cad_error(kBad + "step_weight_negative.stp");
-  EXPECT_TRUE(contains(negative, "weight of control point (i, j) = (1, 2) is -1;")) << negative;
+  EXPECT_TRUE(
+      contains(negative, "weight of control point (i, j) = (1, 2) (i along u, from 0) is -1;"))
+      << negative;
 }
 
 // A count of 2·10⁹ control points: the message was only "std::bad_alloc".

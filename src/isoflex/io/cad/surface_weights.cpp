@@ -30,8 +30,7 @@ constexpr double kOcctSmallestIgesWeight = 1e-9;
 [[noreturn]] void fail(const std::string& where, long long i, long long j, double w,
                        const char* why = "NURBS weights must be positive") {
   throw std::invalid_argument(
-      fmt::format("{}: weight of control point (i, j) = ({}, {}) is {:.17g}; {} (i along u, "
-                  "counted from 0)",
+      fmt::format("{}: weight of control point (i, j) = ({}, {}) (i along u, from 0) is {}; {}",
                   where, i, j, w, why));
 }
 
