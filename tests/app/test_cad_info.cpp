@@ -1,5 +1,6 @@
 // `isoflex cad-info`: app::cad_info_command on the shared CAD files, and the executable end to end.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -73,12 +74,13 @@ TEST(CadInfo, MissingFileIsExitCode2WithOneLine) {
 
 // --- The executable ------------------------------------------------------------------------------
 
-// Runs `isoflex ARGS`, keeping stdout and stderr apart (stderr through a temporary file).
-Output run(const std::string& args) {
+// Runs `ENV isoflex ARGS` (ENV: assignments such as "X=1 "), keeping stdout and stderr apart
+// (stderr through a temporary file).
+Output run(const std::string& args, const std::string& env = "") {
   // One file per process: ctest runs the tests of this suite in parallel processes.
   const std::string err_file =
       ::testing::TempDir() + "isoflex_cad_info_stderr_" + std::to_string(::getpid()) + ".txt";
-  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>" + err_file;
+  const std::string cmd = env + std::string(ISOFLEX_BINARY) + " " + args + " 2>" + err_file;
   Output r{-1, {}, {}};
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;
@@ -119,6 +121,37 @@ TEST(CadInfoBinary, MalformedFile) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(r.err.rfind("error: " + file + ": cannot be read as STEP", 0), 0u) << r.err;
   std::remove(file.c_str());
+}
+
+// A file that crashes OpenCASCADE (one CARTESIAN_POINT line deleted) took the process down with
+// SIGSEGV; it is an error naming the file and what was being read, exit code 2.
+TEST(CadInfoBinary, CrashOfOpenCascadeIsExitCode2) {
+  const std::string file = kData + "malformed/step_cartesian_point_12_deleted.stp";
+  const auto r = run("cad-info " + file);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "error: " + file +
+                       ": OpenCASCADE crashed (SIGSEGV: Segmentation fault) while translating the "
+                       "STEP entities into shapes (the file is probably malformed; the crash was "
+                       "contained in a child process)\n");
+}
+
+// A read that does not end (a FIFO nobody writes to) is stopped at $ISOFLEX_CAD_TIME_LIMIT.
+TEST(CadInfoBinary, TimeLimitFromTheEnvironment) {
+  const std::string fifo =
+      ::testing::TempDir() + "isoflex_cad_info_fifo_" + std::to_string(::getpid()) + ".stp";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto r = run("cad-info " + fifo, "ISOFLEX_CAD_TIME_LIMIT=0.3 ");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err.rfind("error: " + fifo +
+                            ": OpenCASCADE did not finish within 0.3 s while parsing the STEP "
+                            "file",
+                        0),
+            0u)
+      << r.err;
+  std::remove(fifo.c_str());
 }
 
 }  // namespace

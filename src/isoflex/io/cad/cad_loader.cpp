@@ -1,17 +1,22 @@
 #include <dlfcn.h>
+#include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "isoflex/io/cad/cad_isolation.hpp"
 #include "isoflex/io/cad/cad_reader.hpp"
 
 namespace isoflex::io {
 
 namespace {
 
-using ReadFn = int (*)(const char*, CadModel*, std::string*, std::string*);
+using ReadFn = detail::CadReadFn;
+
+constexpr double kDefaultTimeLimit = 60;  // s; the largest shared file reads in well under 1 s
 
 // Where the import module may be: $ISOFLEX_CAD_MODULE, next to the running executable, and where
 // the build put it (tests and benchmarks run from other directories of the build tree).
@@ -40,20 +45,26 @@ ReadFn load_module(const std::string& file) {
   throw CadError(file, "cannot load the CAD import module (" + tried + ")");
 }
 
+double time_limit(const CadReadOptions& options, const std::string& file) {
+  if (options.time_limit_s) return *options.time_limit_s;
+  const char* env = std::getenv("ISOFLEX_CAD_TIME_LIMIT");
+  if (!env || !*env) return kDefaultTimeLimit;
+  char* end = nullptr;
+  const double s = std::strtod(env, &end);
+  if (*end != '\0' || !(s > 0) || !std::isfinite(s))
+    throw CadError(file, fmt::format("ISOFLEX_CAD_TIME_LIMIT='{}' is not a positive number of "
+                                     "seconds",
+                                     env));
+  return s;
+}
+
 }  // namespace
 
-CadModel read_cad(const std::filesystem::path& file) {
+CadModel read_cad(const std::filesystem::path& file, const CadReadOptions& options) {
+  const double limit = time_limit(options, file.string());
+  // Loaded here, before the fork, so that each child finds OpenCASCADE already relocated.
   const ReadFn read = load_module(file.string());
-  CadModel model;
-  std::string where, message;
-  switch (read(file.c_str(), &model, &where, &message)) {
-    case 0:
-      return model;
-    case 1:
-      throw CadError(where, message);
-    default:
-      throw CadError(file.string(), message);
-  }
+  return detail::read_in_child(file, read, limit);
 }
 
 }  // namespace isoflex::io

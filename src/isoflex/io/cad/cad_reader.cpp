@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -32,10 +33,27 @@
 #include "isoflex/io/cad/face_trimming.hpp"
 #include "isoflex/io/cad/occt_messages.hpp"
 #include "isoflex/io/cad/occt_nurbs.hpp"
+#include "isoflex/io/cad/surface_weights.hpp"
 
 namespace isoflex::io {
 
 namespace {
+
+// What the reader is doing, kept for error messages and passed on to the caller's callback.
+class Stages {
+ public:
+  Stages(CadStageFn fn, void* context) : fn_(fn), context_(context) {}
+  void enter(std::string stage) {
+    current_ = std::move(stage);
+    if (fn_) fn_(context_, current_.c_str());
+  }
+  const std::string& current() const { return current_; }
+
+ private:
+  CadStageFn fn_;
+  void* context_;
+  std::string current_ = "opening the file";
+};
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
@@ -239,11 +257,13 @@ CadPatch make_patch(const XSControl_Reader& reader, const TopoDS_Face& face, int
   return p;
 }
 
-// Parses the file into the reader's model; throws CadError with OCCT's first failure message.
+// Parses the file into the reader's model and checks what OCCT's transfer would hide; throws
+// CadError with OCCT's first failure message.
 void parse(XSControl_Reader& reader, const CadModel& model,
-           const detail::OcctMessageCapture& messages) {
+           const detail::OcctMessageCapture& messages, Stages& stages) {
   const std::string name = model.file.string();
   const std::string format = to_string(model.format);
+  stages.enter("parsing the " + format + " file");
   if (reader.ReadFile(name.c_str()) != IFSelect_RetDone) {
     const std::string why = messages.first_failure();
     throw CadError(name, "cannot be read as " + format + ": " +
@@ -252,24 +272,29 @@ void parse(XSControl_Reader& reader, const CadModel& model,
   if (reader.Model().IsNull() || reader.Model()->NbEntities() == 0)
     throw CadError(
         name, "cannot be read as " + format + ": no entities found (not an " + format + " file?)");
+  stages.enter("checking the weights of the " + format + " B-spline surfaces");
+  detail::check_surface_weights(reader, model.file);
 }
 
 // Transfers every root and makes one patch per distinct face, in the order of the file.
-void transfer_faces(XSControl_Reader& reader, CadModel& model) {
+void transfer_faces(XSControl_Reader& reader, CadModel& model, Stages& stages) {
+  stages.enter(std::string("translating the ") + to_string(model.format) + " entities into shapes");
   reader.TransferRoots();
   const TopoDS_Shape shape = reader.OneShape();
   TopTools_MapOfShape seen;
   for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
     if (!seen.Add(ex.Current())) continue;
     const int index = static_cast<int>(model.patches.size());
+    stages.enter("converting face " + std::to_string(index) + " to a NURBS patch");
     model.patches.push_back(make_patch(reader, TopoDS::Face(ex.Current()), index));
   }
 }
 
 }  // namespace
 
-CadModel read_cad_occt(const std::filesystem::path& file) {
+CadModel read_cad_occt(const std::filesystem::path& file, CadStageFn stage, void* context) {
   const std::string name = file.string();
+  Stages stages(stage, context);
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) throw CadError(name, "no such file");
   if (std::filesystem::is_directory(file, ec)) throw CadError(name, "is a directory, not a file");
@@ -285,21 +310,27 @@ CadModel read_cad_occt(const std::filesystem::path& file) {
   try {
     if (*format == CadFormat::iges) {
       IGESControl_Reader reader;
-      parse(reader, model, messages);
+      parse(reader, model, messages, stages);
       model.length_unit = keep_iges_units(reader);
-      transfer_faces(reader, model);
+      transfer_faces(reader, model, stages);
     } else {
       STEPControl_Reader reader;
-      parse(reader, model, messages);
+      parse(reader, model, messages, stages);
       model.length_unit = keep_step_units(reader);
-      transfer_faces(reader, model);
+      transfer_faces(reader, model, stages);
     }
   } catch (const CadError&) {
     throw;
   } catch (const std::invalid_argument& e) {
     throw CadError(name, e.what());
+  } catch (const std::bad_alloc&) {
+    // Bare "std::bad_alloc" says neither what nor where: a count in the file far too large.
+    throw CadError(name, "out of memory (std::bad_alloc) while " + stages.current() +
+                             ": a count in the file is probably far too large");
   } catch (const Standard_Failure& e) {
-    throw CadError(name, "OpenCASCADE failed while reading: " + failure_text(e));
+    throw CadError(name, "OpenCASCADE failed (" + failure_text(e) + ") while " + stages.current());
+  } catch (const std::exception& e) {
+    throw CadError(name, std::string(e.what()) + " while " + stages.current());
   }
   if (model.patches.empty())
     throw CadError(name,
