@@ -34,7 +34,7 @@ struct RunSummary {
 };
 
 // Writes `s` as a JSON object to `file` atomically (temporary file, then rename).
-// Throws std::runtime_error when the file cannot be written.
+// Throws io::OutputError when the file cannot be written.
 void write_summary_json(const std::filesystem::path& file, const RunSummary& s);
 
 // The JSON text written by write_summary_json.
@@ -44,7 +44,8 @@ std::string summary_json(const RunSummary& s);
 std::string json_string(std::string_view text);
 
 // Writes `content` to `file.tmp`, then renames it to `file`, so that readers see either the old
-// or the new complete file. Creates missing parent directories. Throws std::runtime_error.
+// or the new complete file. Creates missing parent directories. Throws io::OutputError (naming
+// `file`, not the temporary file, which is removed).
 void write_file_atomic(const std::filesystem::path& file, std::string_view content);
 
 }  // namespace isoflex::io
