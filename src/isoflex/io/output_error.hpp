@@ -2,7 +2,8 @@
 // The error thrown by the output writers (history_writer, summary_writer, vtk_writer) when a file
 // or folder cannot be written: a full disk, a folder without write permission, a directory where
 // the file goes. what() is "cannot write FILE: CAUSE" (or "cannot create directory DIR: CAUSE"),
-// CAUSE being the system's text for errno. The writers leave what they wrote before it complete.
+// CAUSE being the system's text for errno. The writers leave what they wrote before it complete;
+// the run driver ends the run with exit code 4 (app/exit_codes.hpp).
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>

@@ -1,0 +1,11 @@
+#pragma once
+// The exit codes of `isoflex run` and `isoflex check` (README "Exit codes"), with the `status` of
+// summary.json that goes with each (io::RunSummary).
+namespace isoflex::app {
+
+inline constexpr int kExitSuccess = 0;        // "completed"
+inline constexpr int kExitBadInput = 2;       // model file or options; nothing is written
+inline constexpr int kExitNewtonFailure = 3;  // "failed": a step did not converge
+inline constexpr int kExitOutputError = 4;    // "output_error": a file could not be written
+
+}  // namespace isoflex::app
