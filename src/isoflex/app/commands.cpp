@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "isoflex/app/exit_codes.hpp"
+#include "isoflex/app/interrupt.hpp"
 #include "isoflex/app/run_outputs.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -243,6 +244,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // statics).
   std::optional<integrate::EnergyMomentumIntegrator> integ;
   if (!statics) integ.emplace(sys, m.solver);
+  // From here on SIGINT and SIGTERM end the run after the step in progress (app/interrupt.hpp).
+  const InterruptHandlers interrupts;
 
   io::RunSummary sum;
   sum.model = o.model_file;
@@ -269,7 +272,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
   std::optional<RunOutputs> outputs;
-  // After every step (time step or accepted load step): the summary's figures and the outputs.
+  // After every step (time step or accepted load step): the summary's figures, the outputs, and
+  // the end of the run if a signal came.
   const auto record = [&](const integrate::StepStats& st) {
     snap = integrate::snapshot(sys, state, st, names);
     ++sum.steps;
@@ -281,6 +285,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
           sum.max_energy_drift_after_loads, std::abs(snap.total_energy - sum.energy_initial) /
                                                 std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
+    throw_if_interrupted();
   };
   const auto t0 = std::chrono::steady_clock::now();
   int code = 0;
@@ -312,6 +317,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.status = "output_error";
     sum.message = e.what();
     code = kExitOutputError;
+  } catch (const Interrupted& i) {
+    sum.status = "interrupted";
+    sum.message = "interrupted by " + signal_name(i.signal);
+    code = exit_code_for_signal(i.signal);
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::vector<std::string> output_errors;
@@ -330,7 +339,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     if (code == 0) code = kExitOutputError;
   }
   if (code != 0) {
-    const char* prefix = "error: ";
+    const char* prefix = sum.status == "interrupted" ? "" : "error: ";
     if (!outputs)  // the output files could not even be opened
       fmt::print(err, "{}{}\n", prefix, sum.message);
     else if (!sum.message.empty())

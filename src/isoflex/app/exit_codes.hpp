@@ -8,4 +8,10 @@ inline constexpr int kExitBadInput = 2;       // model file or options; nothing 
 inline constexpr int kExitNewtonFailure = 3;  // "failed": a step did not converge
 inline constexpr int kExitOutputError = 4;    // "output_error": a file could not be written
 
+// "interrupted" by SIGINT or SIGTERM: 128 + the signal (130, 143), the code a shell reports for
+// a process the signal ended, so that scripts see the same whether or not isoflex caught it.
+constexpr int exit_code_for_signal(int sig) {
+  return 128 + sig;
+}
+
 }  // namespace isoflex::app

@@ -29,8 +29,8 @@ struct RunSummary {
   // max |E − E_ref| / |E_ref| after the last load has ceased (NaN when not applicable)
   double max_energy_drift_after_loads = 0.0;
   std::vector<integrate::ProbeValue> probes;
-  // "completed"; "failed" (Newton), "output_error" (a file could not be written): README
-  // "Exit codes"
+  // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"
+  // (SIGINT, SIGTERM): README "Exit codes"
   std::string status = "completed";
   std::string message;  // why the run ended early; empty when completed
 };
