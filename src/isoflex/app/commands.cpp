@@ -11,14 +11,15 @@
 #include <optional>
 #include <thread>
 
-#include "isoflex/app/progress.hpp"
+#include "isoflex/app/exit_codes.hpp"
+#include "isoflex/app/interrupt.hpp"
+#include "isoflex/app/run_outputs.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
-#include "isoflex/io/history_writer.hpp"
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "isoflex/io/output_error.hpp"
 #include "isoflex/io/summary_writer.hpp"
-#include "isoflex/io/vtk_writer.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::app {
@@ -243,15 +244,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // statics).
   std::optional<integrate::EnergyMomentumIntegrator> integ;
   if (!statics) integ.emplace(sys, m.solver);
-  std::vector<std::unique_ptr<integrate::Observer>> observers;
-  if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
-    observers.push_back(std::make_unique<io::HistoryWriter>(outdir));
-    observers.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
-    observers.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
-  }
-  if (m.output.vtk_every > 0)
-    observers.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
-  observers.push_back(std::make_unique<ProgressBar>(m.solver.t_end, err));
+  // From here on SIGINT and SIGTERM end the run after the step in progress (app/interrupt.hpp).
+  const InterruptHandlers interrupts;
 
   io::RunSummary sum;
   sum.model = o.model_file;
@@ -277,11 +271,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   auto snap = integrate::snapshot(sys, state, {}, names);
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
-  for (auto& ob : observers) ob->on_snapshot(snap);
-  // After every step (time step or accepted load step): outputs and the summary's figures.
+  std::optional<RunOutputs> outputs;
+  // After every step (time step or accepted load step): the summary's figures, the outputs, and
+  // the end of the run if a signal came.
   const auto record = [&](const integrate::StepStats& st) {
     snap = integrate::snapshot(sys, state, st, names);
-    for (auto& ob : observers) ob->on_snapshot(snap);
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
     sum.max_constraint_violation =
@@ -290,11 +284,15 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       sum.max_energy_drift_after_loads = std::max(
           sum.max_energy_drift_after_loads, std::abs(snap.total_energy - sum.energy_initial) /
                                                 std::max(std::abs(sum.energy_initial), 1e-300));
+    outputs->snapshot(snap);
+    throw_if_interrupted();
   };
   const auto t0 = std::chrono::steady_clock::now();
   int code = 0;
   std::string linear;  // static runs: "linear" or "nonlinear"
   try {
+    outputs.emplace(outdir, m, err);
+    outputs->snapshot(snap);
     if (statics) {
       integrate::StaticEquilibrium equilibrium(sys, m.solver);
       sum.n_unknowns = equilibrium.unknowns();
@@ -315,16 +313,41 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.status = "failed";
     sum.message = e.what();
     code = 3;
+  } catch (const io::OutputError& e) {
+    sum.status = "output_error";
+    sum.message = e.what();
+    code = kExitOutputError;
+  } catch (const Interrupted& i) {
+    sum.status = "interrupted";
+    sum.message = "interrupted by " + signal_name(i.signal);
+    code = exit_code_for_signal(i.signal);
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (auto& ob : observers) ob->on_finish();
+  std::vector<std::string> output_errors;
+  if (outputs) output_errors = outputs->finish();
+  if (code == 0 && !output_errors.empty()) {
+    sum.status = "output_error";
+    sum.message = output_errors.front();
+    code = kExitOutputError;
+  }
   sum.energy_final = snap.total_energy;
   sum.probes = snap.probes;
-  io::write_summary_json(outdir / "summary.json", sum);
+  try {
+    io::write_summary_json(outdir / "summary.json", sum);
+  } catch (const io::OutputError& e) {
+    output_errors.push_back(e.what());
+    if (code == 0) code = kExitOutputError;
+  }
   if (code != 0) {
-    fmt::print(err, "error: {}\n(results up to {}t = {:.6g}, are in {})\n", sum.message,
-               statics ? fmt::format("load step {}, ", snap.step) : std::string(), snap.t,
-               outdir.string());
+    const char* prefix = sum.status == "interrupted" ? "" : "error: ";
+    if (!outputs)  // the output files could not even be opened
+      fmt::print(err, "{}{}\n", prefix, sum.message);
+    else if (!sum.message.empty())
+      fmt::print(err, "{}{}\n(results up to {}t = {:.6g}, are in {})\n", prefix, sum.message,
+                 statics ? fmt::format("load step {}, ", snap.step) : std::string(), snap.t,
+                 outdir.string());
+    for (const std::string& e : output_errors)
+      if (e != sum.message) fmt::print(err, "error: {}\n", e);
     return code;
   }
   if (statics) {

@@ -1,6 +1,7 @@
 #pragma once
-// The subcommands of the `isoflex` tool. Each returns the process exit code:
-// 0 success, 2 bad input (model file, options), 3 the simulation failed (Newton).
+// The subcommands of the `isoflex` tool. Each returns the process exit code (exit_codes.hpp):
+// 0 success, 2 bad input (model file, options), 3 the simulation failed (Newton), 4 an output
+// file could not be written, 130 / 143 the run was interrupted by SIGINT / SIGTERM.
 #include <cstdio>
 #include <optional>
 #include <string>

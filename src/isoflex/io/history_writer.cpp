@@ -1,14 +1,17 @@
 #include "isoflex/io/history_writer.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
-#include <stdexcept>
+#include <iterator>
 #include <string>
 #include <string_view>
 #include <system_error>
 #include <utility>
+
+#include "isoflex/io/output_error.hpp"
 
 namespace isoflex::io {
 
@@ -32,42 +35,56 @@ CsvFile::CsvFile(const std::filesystem::path& file, const char* header) : path_(
   if (file.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(file.parent_path(), ec);
-    if (ec) {
-      throw std::runtime_error(
-          fmt::format("cannot create directory {}: {}", file.parent_path().string(), ec.message()));
-    }
+    if (ec) throw OutputError(file.parent_path(), ec.message(), "create directory");
   }
-  f_ = std::fopen(file.c_str(), "w");
-  if (f_ == nullptr) {
-    throw std::runtime_error(
-        fmt::format("cannot write {}: {}", file.string(), std::strerror(errno)));
-  }
-  fmt::print(f_, "{}\n", header);
+  fd_ = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw OutputError::from_errno(file, errno);
+  pending_ = header;
+  pending_ += '\n';
   flush();
 }
 
 CsvFile::~CsvFile() {
-  if (f_ != nullptr) std::fclose(f_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 CsvFile::CsvFile(CsvFile&& other) noexcept
-    : path_(std::move(other.path_)), f_(std::exchange(other.f_, nullptr)) {}
+    : path_(std::move(other.path_)),
+      fd_(std::exchange(other.fd_, -1)),
+      pending_(std::move(other.pending_)),
+      written_(other.written_) {}
 
 CsvFile& CsvFile::operator=(CsvFile&& other) noexcept {
   if (this != &other) {
-    if (f_ != nullptr) std::fclose(f_);
+    if (fd_ >= 0) ::close(fd_);
     path_ = std::move(other.path_);
-    f_ = std::exchange(other.f_, nullptr);
+    fd_ = std::exchange(other.fd_, -1);
+    pending_ = std::move(other.pending_);
+    written_ = other.written_;
   }
   return *this;
 }
 
 void CsvFile::flush() {
-  if (f_ == nullptr) return;
-  if (std::fflush(f_) != 0 || std::ferror(f_) != 0) {
-    throw std::runtime_error(
-        fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
+  if (fd_ < 0 || pending_.empty()) return;
+  // Plain write(2) rather than stdio: after a failed write stdio keeps part of the rows in its
+  // buffer and writes it out later, so the file could not be cut back to complete rows.
+  std::size_t done = 0;
+  while (done < pending_.size()) {
+    const ssize_t n = ::write(fd_, pending_.data() + done, pending_.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;
+      pending_.clear();
+      // Part of a row on disk: cut it off (devices such as /dev/full cannot be, nor need to be).
+      if (done > 0 && ::ftruncate(fd_, static_cast<off_t>(written_)) == 0)
+        ::lseek(fd_, static_cast<off_t>(written_), SEEK_SET);
+      throw OutputError::from_errno(path_, error);
+    }
+    done += static_cast<std::size_t>(n);
   }
+  written_ += static_cast<long long>(done);
+  pending_.clear();
 }
 
 HistoryWriter::HistoryWriter(const std::filesystem::path& outdir)
@@ -76,11 +93,11 @@ HistoryWriter::HistoryWriter(const std::filesystem::path& outdir)
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;
   const Vec3& L = s.angular_momentum;
-  fmt::print(file_.get(),
-             "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-             "{:.17g},{},{:.17g}\n",
-             s.t, s.kinetic_energy, s.potential_energy, s.total_energy, p.x(), p.y(), p.z(), L.x(),
-             L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
+  fmt::format_to(std::back_inserter(file_.pending()),
+                 "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
+                 "{:.17g},{},{:.17g}\n",
+                 s.t, s.kinetic_energy, s.potential_energy, s.total_energy, p.x(), p.y(), p.z(),
+                 L.x(), L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
   file_.flush();
 }
 
@@ -98,11 +115,11 @@ void ProbeWriter::on_snapshot(const integrate::Snapshot& s) {
     const Vec3& x = pr.position;
     const Vec3& u = pr.displacement;
     const Vec3& v = pr.velocity;
-    fmt::print(file_.get(),
-               "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-               "{:.17g}\n",
-               s.t, csv_field(pr.name), x.x(), x.y(), x.z(), u.x(), u.y(), u.z(), v.x(), v.y(),
-               v.z());
+    fmt::format_to(std::back_inserter(file_.pending()),
+                   "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
+                   "{:.17g}\n",
+                   s.t, csv_field(pr.name), x.x(), x.y(), x.z(), u.x(), u.y(), u.z(), v.x(), v.y(),
+                   v.z());
   }
   file_.flush();
 }
@@ -118,8 +135,10 @@ ResultantsWriter::ResultantsWriter(const std::filesystem::path& outdir, const mo
 void ResultantsWriter::on_snapshot(const integrate::Snapshot& s) {
   if (!file_) return;
   for (const auto& e : s.beam_elements)
-    fmt::print(file_.get(), "{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t,
-               csv_field(e.beam), e.element, e.n.x(), e.n.y(), e.n.z(), e.m.x(), e.m.y(), e.m.z());
+    fmt::format_to(std::back_inserter(file_.pending()),
+                   "{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t,
+                   csv_field(e.beam), e.element, e.n.x(), e.n.y(), e.n.z(), e.m.x(), e.m.y(),
+                   e.m.z());
   file_.flush();
 }
 

@@ -1,13 +1,13 @@
 #pragma once
-// Time histories as CSV, one row per snapshot, numbers with 17 significant digits, flushed after
-// every row so that a running or interrupted simulation can be inspected.
+// Time histories as CSV, one row per snapshot, numbers with 17 significant digits, written after
+// every snapshot so that a running or interrupted simulation can be inspected.
 //   history.csv: t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,
 //                constraint_violation,newton_iterations,residual
 //   probes.csv:  t,probe,x,y,z,ux,uy,uz,vx,vy,vz (one row per probe and snapshot)
 //   resultants.csv: t,beam,element,n1,n2,n3,m1,m2,m3 (one row per beam element and snapshot;
 //                stress resultants in director components, DNSM-III (69))
-#include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "isoflex/integrate/snapshot.hpp"
 #include "isoflex/model/model.hpp"
@@ -20,12 +20,14 @@ inline constexpr const char* kHistoryHeader =
 inline constexpr const char* kProbesHeader = "t,probe,x,y,z,ux,uy,uz,vx,vy,vz";
 inline constexpr const char* kResultantsHeader = "t,beam,element,n1,n2,n3,m1,m2,m3";
 
-// Owns an output file opened for writing (closed on destruction).
+// An output file of rows: the writers append rows to pending(), flush() writes them. A failed
+// write (a full disk) cuts the file back to the last row written completely, so that the file
+// stays a valid CSV file, and throws io::OutputError naming the file and the cause.
 class CsvFile {
  public:
   CsvFile() = default;
-  // Creates missing directories, truncates the file and writes `header`. Throws
-  // std::runtime_error when it cannot be opened.
+  // Creates missing directories, truncates the file and writes `header`. Throws io::OutputError
+  // when it cannot be opened or written.
   CsvFile(const std::filesystem::path& file, const char* header);
   ~CsvFile();
   CsvFile(const CsvFile&) = delete;
@@ -33,13 +35,18 @@ class CsvFile {
   CsvFile(CsvFile&& other) noexcept;
   CsvFile& operator=(CsvFile&& other) noexcept;
 
-  std::FILE* get() const { return f_; }
-  explicit operator bool() const { return f_ != nullptr; }
-  void flush();  // throws std::runtime_error on a write error (e.g. disk full)
+  explicit operator bool() const { return fd_ >= 0; }
+  // Rows not yet written, each ending in '\n'.
+  std::string& pending() { return pending_; }
+  // Writes the pending rows (one write call unless the system splits it); on failure drops them,
+  // cuts off any part of them that reached the file and throws io::OutputError.
+  void flush();
 
  private:
   std::filesystem::path path_;
-  std::FILE* f_ = nullptr;
+  int fd_ = -1;
+  std::string pending_;
+  long long written_ = 0;  // bytes of complete rows in the file
 };
 
 // Writes outdir/history.csv.

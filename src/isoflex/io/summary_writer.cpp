@@ -5,10 +5,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <iterator>
-#include <stdexcept>
 #include <system_error>
+
+#include "isoflex/io/output_error.hpp"
 
 namespace isoflex::io {
 
@@ -128,32 +128,23 @@ void write_file_atomic(const std::filesystem::path& file, std::string_view conte
   if (file.has_parent_path()) {
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
-    if (ec) {
-      throw std::runtime_error(
-          fmt::format("cannot create directory {}: {}", file.parent_path().string(), ec.message()));
-    }
+    if (ec) throw OutputError(file.parent_path(), ec.message(), "create directory");
   }
+  // Errors name `file`, the one the user knows; the temporary file is removed.
   fs::path tmp = file;
   tmp += ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (f == nullptr) {
-    throw std::runtime_error(
-        fmt::format("cannot write {}: {}", tmp.string(), std::strerror(errno)));
-  }
-  const bool written = std::fwrite(content.data(), 1, content.size(), f) == content.size();
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !closed) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(fmt::format("cannot write {}", tmp.string()));
-  }
+  if (f == nullptr) throw OutputError::from_errno(file, errno);
+  int error = 0;
+  if (std::fwrite(content.data(), 1, content.size(), f) != content.size()) error = errno;
+  if (std::fclose(f) != 0 && error == 0) error = errno;
   std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) {
+  if (error == 0) fs::rename(tmp, file, ec);
+  if (error != 0 || ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw std::runtime_error(
-        fmt::format("cannot rename {} to {}: {}", tmp.string(), file.string(), ec.message()));
+    if (error != 0) throw OutputError::from_errno(file, error);
+    throw OutputError(file, ec.message());
   }
 }
 

@@ -29,12 +29,14 @@ struct RunSummary {
   // max |E − E_ref| / |E_ref| after the last load has ceased (NaN when not applicable)
   double max_energy_drift_after_loads = 0.0;
   std::vector<integrate::ProbeValue> probes;
-  std::string status = "completed";  // "completed" or "failed"
-  std::string message;
+  // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"
+  // (SIGINT, SIGTERM): README "Exit codes"
+  std::string status = "completed";
+  std::string message;  // why the run ended early; empty when completed
 };
 
 // Writes `s` as a JSON object to `file` atomically (temporary file, then rename).
-// Throws std::runtime_error when the file cannot be written.
+// Throws io::OutputError when the file cannot be written.
 void write_summary_json(const std::filesystem::path& file, const RunSummary& s);
 
 // The JSON text written by write_summary_json.
@@ -44,7 +46,8 @@ std::string summary_json(const RunSummary& s);
 std::string json_string(std::string_view text);
 
 // Writes `content` to `file.tmp`, then renames it to `file`, so that readers see either the old
-// or the new complete file. Creates missing parent directories. Throws std::runtime_error.
+// or the new complete file. Creates missing parent directories. Throws io::OutputError (naming
+// `file`, not the temporary file, which is removed).
 void write_file_atomic(const std::filesystem::path& file, std::string_view content);
 
 }  // namespace isoflex::io

@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "isoflex/io/kl_shell_vtk.hpp"
+#include "isoflex/io/output_error.hpp"
 #include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
 
@@ -323,10 +324,7 @@ VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const mode
   }
   std::error_code ec;
   std::filesystem::create_directories(outdir_ / "vtk", ec);
-  if (ec) {
-    throw std::runtime_error(
-        fmt::format("cannot create directory {}: {}", (outdir_ / "vtk").string(), ec.message()));
-  }
+  if (ec) throw OutputError(outdir_ / "vtk", ec.message(), "create directory");
 }
 
 VtkSeriesWriter::~VtkSeriesWriter() {

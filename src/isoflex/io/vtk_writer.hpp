@@ -109,6 +109,8 @@ class VtkSeriesWriter : public integrate::Observer {
   VtkSeriesWriter(const VtkSeriesWriter&) = delete;
   VtkSeriesWriter& operator=(const VtkSeriesWriter&) = delete;
 
+  // Both throw io::OutputError when a file cannot be written; the files listed in results.pvd
+  // are then still complete (each is written to a temporary file first, then renamed).
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 

@@ -1,0 +1,17 @@
+#pragma once
+// The exit codes of `isoflex run` and `isoflex check` (README "Exit codes"), with the `status` of
+// summary.json that goes with each (io::RunSummary).
+namespace isoflex::app {
+
+inline constexpr int kExitSuccess = 0;        // "completed"
+inline constexpr int kExitBadInput = 2;       // model file or options; nothing is written
+inline constexpr int kExitNewtonFailure = 3;  // "failed": a step did not converge
+inline constexpr int kExitOutputError = 4;    // "output_error": a file could not be written
+
+// "interrupted" by SIGINT or SIGTERM: 128 + the signal (130, 143), the code a shell reports for
+// a process the signal ended, so that scripts see the same whether or not isoflex caught it.
+constexpr int exit_code_for_signal(int sig) {
+  return 128 + sig;
+}
+
+}  // namespace isoflex::app

@@ -1,0 +1,38 @@
+#include "isoflex/app/run_outputs.hpp"
+
+#include "isoflex/app/progress.hpp"
+#include "isoflex/io/history_writer.hpp"
+#include "isoflex/io/output_error.hpp"
+#include "isoflex/io/vtk_writer.hpp"
+
+namespace isoflex::app {
+
+RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
+                       std::FILE* progress) {
+  if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
+    observers_.push_back(std::make_unique<io::HistoryWriter>(outdir));
+    observers_.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
+    observers_.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
+  }
+  if (m.output.vtk_every > 0)
+    observers_.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
+  observers_.push_back(std::make_unique<ProgressBar>(m.solver.t_end, progress));
+}
+
+void RunOutputs::snapshot(const integrate::Snapshot& s) {
+  for (auto& ob : observers_) ob->on_snapshot(s);
+}
+
+std::vector<std::string> RunOutputs::finish() {
+  std::vector<std::string> errors;
+  for (auto& ob : observers_) {
+    try {
+      ob->on_finish();
+    } catch (const io::OutputError& e) {
+      errors.push_back(e.what());
+    }
+  }
+  return errors;
+}
+
+}  // namespace isoflex::app

@@ -1,0 +1,33 @@
+#pragma once
+// The outputs of one run, fed with every snapshot: history.csv, probes.csv, resultants.csv, the
+// VTK series (as the model's `output` asks) and the progress bar. A file that cannot be written
+// is an io::OutputError (exit code 4), also from the constructor; finish() closes every output
+// even after one of them failed, so that each leaves complete files.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "isoflex/integrate/snapshot.hpp"
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::app {
+
+class RunOutputs {
+ public:
+  // Opens the files in `outdir`; the progress bar goes to `progress` (shown on a terminal only).
+  RunOutputs(const std::filesystem::path& outdir, const model::Model& m, std::FILE* progress);
+
+  // Passes `s` to every output; throws io::OutputError.
+  void snapshot(const integrate::Snapshot& s);
+
+  // Finishes every output (the last snapshot of the VTK series, results.pvd); the messages of
+  // the io::OutputErrors on the way, if any.
+  std::vector<std::string> finish();
+
+ private:
+  std::vector<std::unique_ptr<integrate::Observer>> observers_;
+};
+
+}  // namespace isoflex::app
