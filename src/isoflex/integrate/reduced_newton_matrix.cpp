@@ -125,6 +125,21 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
       for (int b : e->nodes()) ep.push_back(pair(a, b));
     element_pairs_.push_back(std::move(ep));
   }
+  // Follower loads: each entry of the tangent's pattern → (pair, row, column) of a node block.
+  for (const auto& L : sys.loads()) {
+    std::vector<LoadEntry> entries;
+    if (L->follower()) {
+      const SpMat P = L->tangent_pattern(12 * static_cast<int>(L->nodes().size()));
+      for (int c = 0; c < P.outerSize(); ++c)
+        for (SpMat::InnerIterator it(P, c); it; ++it) {
+          const int r = static_cast<int>(it.row());
+          const int p = pair(L->nodes()[r / 12], L->nodes()[c / 12]);
+          if (p < 0) throw std::logic_error("a load couples nodes outside the pattern of K");
+          entries.push_back({p, r % 12, c % 12});
+        }
+    }
+    load_entries_.push_back(std::move(entries));
+  }
   mass_.assign(pairs_.size(), Block::Zero());
   const SpMat& M = sys.mass();
   for (int c = 0; c < M.outerSize(); ++c)
@@ -283,11 +298,23 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
           K_[element_pairs_[e][i * ne + j]] += dt * Ke.block<12, 12>(12 * i, 12 * j);
     }
   }
-  for (const auto& L : sys_.loads()) {
-    const int o = 12 * L.node();
-    const fn::Q qmo = 0.5 * (qn.segment<12>(o) + q1.segment<12>(o));
-    f.segment<12>(o) -= L.generalized_force(qmo, t_mid);
-    if (want) K_[pair(L.node(), L.node())] += (-0.5 * dt) * L.generalized_force_derivative(t_mid);
+  std::vector<double> tangent;
+  for (std::size_t l = 0; l < sys_.loads().size(); ++l) {
+    const loads::Load& L = *sys_.loads()[l];
+    const std::vector<int>& nodes = L.nodes();
+    VecX x(12 * nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      x.segment<12>(12 * i) = 0.5 * (qn.segment<12>(12 * nodes[i]) + q1.segment<12>(12 * nodes[i]));
+    const VecX g = L.generalized_force(x, t_mid);
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      f.segment<12>(12 * nodes[i]) -= g.segment<12>(12 * i);
+    if (!want || load_entries_[l].empty()) continue;
+    tangent.assign(load_entries_[l].size(), 0.0);
+    L.add_tangent(x, t_mid, -0.5 * dt, tangent.data());
+    for (std::size_t k = 0; k < tangent.size(); ++k) {
+      const LoadEntry& e = load_entries_[l][k];
+      K_[e.pair](e.row, e.col) += tangent[k];
+    }
   }
   const VecX r0 = sys_.mass() * (v1 - vn) + dt * f;
   const VecX R = sys_.reduce(qm, r0);  // 𝖯ᵀ r₀ by the leaves-to-root sweep

@@ -76,6 +76,10 @@ class ReducedNewtonMatrix {
   std::vector<int> pair_blocks_;                             // J block of each path combination
   std::vector<std::vector<int>> element_pairs_;              // ne × ne pair indices per element
   std::vector<Block> mass_;                                  // M blocks of the pairs
+  struct LoadEntry {
+    int pair, row, col;
+  };
+  std::vector<std::vector<LoadEntry>> load_entries_;  // per load, its tangent's entries
   std::vector<JBlock> jblocks_;
   std::vector<int> slots_;
   system::SpMat pattern_;

@@ -25,14 +25,8 @@ namespace {
 // Loads whose force depends on q (follower pressure, moments that turn with a director): their
 // tangent is not symmetric.
 bool has_follower_loads(const system::System& sys) {
-  for (const auto& L : sys.loads())
-    if (L.has_moment()) return true;
-  for (const auto& L : sys.director_loads())
-    if (L.has_moment()) return true;
-  for (const auto& P : sys.kl_patches())
-    for (const auto& L : P.loads)
-      if (L->follower()) return true;
-  return false;
+  return std::any_of(sys.loads().begin(), sys.loads().end(),
+                     [](const auto& L) { return L->follower(); });
 }
 
 // R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale.

@@ -6,7 +6,7 @@ namespace isoflex::loads {
 
 BodyLoad::BodyLoad(int node, const Vec3& X, std::optional<std::array<TimeFunction, 3>> force,
                    std::optional<std::array<TimeFunction, 3>> moment)
-    : node_(node), X_(X), force_(std::move(force)), moment_(std::move(moment)) {}
+    : nodes_{node}, X_(X), force_(std::move(force)), moment_(std::move(moment)) {}
 
 namespace {
 Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
@@ -36,6 +36,14 @@ Mat<12, 12> BodyLoad::generalized_force_derivative(double t) const {
   const Mat3 S = 0.5 * skew(moment(t));
   for (int I = 0; I < 3; ++I) K.block<3, 3>(3 + 3 * I, 3 + 3 * I) = S;
   return K;
+}
+
+VecX BodyLoad::generalized_force(const VecX& x, double t) const {
+  return generalized_force(Vec<12>(x), t);
+}
+
+void BodyLoad::add_tangent(const VecX&, double t, double scale, double* values) const {
+  Eigen::Map<Mat<12, 12>>(values) += scale * generalized_force_derivative(t);
 }
 
 }  // namespace isoflex::loads

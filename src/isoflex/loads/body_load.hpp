@@ -5,18 +5,25 @@
 // In a time step both are evaluated at t_{n+½} and q_{n+½}, the midpoint of the scheme.
 #include <array>
 #include <optional>
+#include <vector>
 
+#include "isoflex/loads/load.hpp"
 #include "isoflex/loads/time_function.hpp"
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::loads {
 
-class BodyLoad {
+class BodyLoad : public Load {
  public:
   BodyLoad(int node, const Vec3& X, std::optional<std::array<TimeFunction, 3>> force,
            std::optional<std::array<TimeFunction, 3>> moment);
 
-  int node() const { return node_; }
+  int node() const { return nodes_.front(); }
+  // The Load contract on the node's 12 coordinates; the tangent (moment only) is dense.
+  const std::vector<int>& nodes() const override { return nodes_; }
+  VecX generalized_force(const VecX& x, double t) const override;
+  bool follower() const override { return has_moment(); }
+  void add_tangent(const VecX& x, double t, double scale, double* values) const override;
   // Generalized force (a 12-vector in the node coordinates) at configuration q and time t.
   Vec<12> generalized_force(const Vec<12>& q, double t) const;
   // ∂f/∂q (12 × 12), constant in q.
@@ -28,7 +35,7 @@ class BodyLoad {
   Vec3 moment(double t) const;
 
  private:
-  int node_;
+  std::vector<int> nodes_;
   Vec3 X_;
   std::optional<std::array<TimeFunction, 3>> force_, moment_;
 };

@@ -6,7 +6,7 @@ namespace isoflex::loads {
 
 DirectorNodeLoad::DirectorNodeLoad(int node, std::optional<std::array<TimeFunction, 3>> force,
                                    std::optional<std::array<TimeFunction, 3>> moment)
-    : node_(node), force_(std::move(force)), moment_(std::move(moment)) {}
+    : nodes_{node}, force_(std::move(force)), moment_(std::move(moment)) {}
 
 namespace {
 Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
@@ -25,6 +25,14 @@ Mat<6, 6> DirectorNodeLoad::generalized_force_derivative(double t) const {
   Mat<6, 6> K = Mat<6, 6>::Zero();
   K.bottomRightCorner<3, 3>() = skew(evaluate(moment_, t));
   return K;
+}
+
+VecX DirectorNodeLoad::generalized_force(const VecX& x, double t) const {
+  return generalized_force(Vec<6>(x), t);
+}
+
+void DirectorNodeLoad::add_tangent(const VecX&, double t, double scale, double* values) const {
+  Eigen::Map<Mat<6, 6>>(values) += scale * generalized_force_derivative(t);
 }
 
 }  // namespace isoflex::loads

@@ -6,18 +6,25 @@
 // q_{n+½}, as for frame nodes (loads/body_load.hpp).
 #include <array>
 #include <optional>
+#include <vector>
 
+#include "isoflex/loads/load.hpp"
 #include "isoflex/loads/time_function.hpp"
 #include "isoflex/math/types.hpp"
 
 namespace isoflex::loads {
 
-class DirectorNodeLoad {
+class DirectorNodeLoad : public Load {
  public:
   DirectorNodeLoad(int node, std::optional<std::array<TimeFunction, 3>> force,
                    std::optional<std::array<TimeFunction, 3>> moment);
 
-  int node() const { return node_; }
+  int node() const { return nodes_.front(); }
+  // The Load contract on the node's 6 coordinates; the tangent (moment only) is dense.
+  const std::vector<int>& nodes() const override { return nodes_; }
+  VecX generalized_force(const VecX& x, double t) const override;
+  bool follower() const override { return has_moment(); }
+  void add_tangent(const VecX& x, double t, double scale, double* values) const override;
   // Generalized force (6 entries, node coordinates (φ, d)) at configuration q and time t.
   Vec<6> generalized_force(const Vec<6>& q, double t) const;
   // ∂f/∂q (6 × 6), constant in q.
@@ -27,7 +34,7 @@ class DirectorNodeLoad {
   bool has_moment() const { return moment_.has_value(); }
 
  private:
-  int node_;
+  std::vector<int> nodes_;
   std::optional<std::array<TimeFunction, 3>> force_, moment_;
 };
 

@@ -11,6 +11,7 @@
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/joints/director_joints.hpp"
 #include "isoflex/joints/point_joints.hpp"
+#include "isoflex/loads/patch_load_set.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
@@ -116,7 +117,15 @@ void System::add_kl_patches(const model::Model& m) {
   inst.element = element.get();
   inst.element_index = static_cast<int>(elements_.size());
   elements_.push_back(std::move(element));
-  inst.loads = kl_patch_loads(m, S);
+  loads::PatchLoads patch_loads = kl_patch_loads(m, S);
+  if (!patch_loads.empty()) {
+    // The element's pattern is kept only for a follower's tangent (it is as large as the patch).
+    const bool follower = std::any_of(patch_loads.begin(), patch_loads.end(),
+                                      [](const auto& L) { return L->follower(); });
+    loads_.push_back(std::make_shared<loads::PatchLoadSet>(
+        inst.nodes, std::move(patch_loads),
+        follower ? inst.element->pattern() : loads::Load::SpMat()));
+  }
   kl_patches_.push_back(std::move(inst));
 }
 
@@ -161,12 +170,13 @@ std::vector<int> System::coordinates_of(const std::vector<int>& nodes) const {
 void System::build_stiffness_pattern() {
   for (const auto& e : elements_)
     element_part_.push_back(stiffness_.add(e->pattern(), coordinates_of(e->nodes())));
-  // A load's derivative is non-zero only through a moment (follower part M × d).
-  for (const auto& L : loads_)
-    load_part_.push_back(L.has_moment() ? stiffness_.add_dense(coordinates_of({L.node()})) : -1);
-  for (const auto& L : director_loads_)
-    director_load_part_.push_back(L.has_moment() ? stiffness_.add_dense(coordinates_of({L.node()}))
-                                                 : -1);
+  // Only a follower load has a tangent.
+  for (const auto& L : loads_) {
+    const std::vector<int> coords = coordinates_of(L->nodes());
+    load_part_.push_back(
+        L->follower() ? stiffness_.add(L->tangent_pattern(static_cast<int>(coords.size())), coords)
+                      : -1);
+  }
   stiffness_.finalize(n());
 }
 
@@ -253,48 +263,22 @@ void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) 
 // f −= f_ext(q, t) load by load; K += −c ∂f_ext/∂q; fext (if not null) += f_ext.
 void System::add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* K,
                              VecX* fext) const {
+  std::vector<double> values;
   for (std::size_t l = 0; l < loads_.size(); ++l) {
-    const auto& L = loads_[l];
-    const int o = nodes_[L.node()].q_offset;
-    const Vec<12> g = L.generalized_force(q.segment<12>(o), t);
-    f.segment<12>(o) -= g;
-    if (fext) fext->segment<12>(o) += g;
-    if (K && load_part_[l] >= 0) {
-      const Mat<12, 12> D = -c * L.generalized_force_derivative(t);
-      stiffness_.scatter(load_part_[l], D.data(), *K);
+    const loads::Load& L = *loads_[l];
+    const VecX x = stacked(q, L.nodes());
+    const VecX g = L.generalized_force(x, t);
+    int o = 0;
+    for (int a : L.nodes()) {
+      const int n = coordinate_count(a);
+      f.segment(nodes_[a].q_offset, n) -= g.segment(o, n);
+      if (fext) fext->segment(nodes_[a].q_offset, n) += g.segment(o, n);
+      o += n;
     }
-  }
-  for (std::size_t l = 0; l < director_loads_.size(); ++l) {
-    const auto& L = director_loads_[l];
-    const int o = nodes_[L.node()].q_offset;
-    const Vec<6> g = L.generalized_force(q.segment<6>(o), t);
-    f.segment<6>(o) -= g;
-    if (fext) fext->segment<6>(o) += g;
-    if (K && director_load_part_[l] >= 0) {
-      const Mat<6, 6> D = -c * L.generalized_force_derivative(t);
-      stiffness_.scatter(director_load_part_[l], D.data(), *K);
-    }
-  }
-  // Patch loads λ(t) f(x); a follower load's tangent is −c λ ∂f/∂x, in the patch's pattern.
-  for (std::size_t p = 0; p < kl_patches_.size(); ++p) {
-    const KLPatchInstance& P = kl_patches_[p];
-    if (P.loads.empty()) continue;
-    const VecX x = stacked(q, P.nodes);
-    VecX fe = VecX::Zero(x.size());
-    SpMat Kl;
-    for (const auto& L : P.loads) {
-      const double lambda = L->factor(t);
-      if (lambda == 0.0) continue;
-      fe += lambda * L->force(x);
-      if (!K || !L->follower()) continue;
-      if (Kl.size() == 0) Kl = P.element->pattern();
-      L->add_tangent(x, -c * lambda, Kl);
-    }
-    for (std::size_t k = 0; k < P.nodes.size(); ++k) {
-      f.segment<3>(nodes_[P.nodes[k]].q_offset) -= fe.segment<3>(3 * k);
-      if (fext) fext->segment<3>(nodes_[P.nodes[k]].q_offset) += fe.segment<3>(3 * k);
-    }
-    if (Kl.size() != 0) stiffness_.scatter(element_part_[P.element_index], Kl.valuePtr(), *K);
+    if (!K || load_part_[l] < 0) continue;
+    values.assign(static_cast<std::size_t>(stiffness_.local_entries(load_part_[l])), 0.0);
+    L.add_tangent(x, t, -c, values.data());
+    stiffness_.scatter(load_part_[l], values.data(), *K);
   }
 }
 

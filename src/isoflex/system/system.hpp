@@ -33,9 +33,7 @@
 #include "isoflex/joints/constraint.hpp"
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/joints/joint.hpp"
-#include "isoflex/loads/body_load.hpp"
-#include "isoflex/loads/director_node_load.hpp"
-#include "isoflex/loads/kl_patch_loads.hpp"
+#include "isoflex/loads/load.hpp"
 #include "isoflex/model/model.hpp"
 #include "isoflex/system/compile_error.hpp"
 #include "isoflex/system/global_matrix.hpp"
@@ -82,14 +80,13 @@ struct ShellInstance {
   std::vector<const elements::DirectorShellElement*> elements;
 };
 
-// A Kirchhoff–Love patch of the model: one point node per control point (surface numbering),
-// its element and its loads.
+// A Kirchhoff–Love patch of the model: one point node per control point (surface numbering) and
+// its element (its loads are one loads::PatchLoadSet among System::loads()).
 struct KLPatchInstance {
   std::string name;
   std::vector<int> nodes;
   const elements::KLPatchElement* element = nullptr;
   int element_index = -1;  // in System::elements()
-  loads::PatchLoads loads;
 };
 
 // A material point followed by a probe: X in the coordinates of `node`, or (KL patches) the
@@ -130,8 +127,8 @@ class System {
   const std::vector<ConstraintInstance>& nary_constraints() const { return nary_; }
   const std::vector<int>& roots() const { return roots_; }
   const std::vector<std::unique_ptr<elements::Element>>& elements() const { return elements_; }
-  const std::vector<loads::BodyLoad>& loads() const { return loads_; }
-  const std::vector<loads::DirectorNodeLoad>& director_loads() const { return director_loads_; }
+  // Every external load, of every node kind, behind one contract (loads/load.hpp).
+  const std::vector<std::shared_ptr<const loads::Load>>& loads() const { return loads_; }
   const std::vector<int>& root_nu_offsets() const { return root_nu_offset_; }
   const std::vector<int>& tree_order() const { return tree_order_; }  // parents before children
   // Coordinates of a node (−1: the ground frame), a view into q.
@@ -284,14 +281,13 @@ class System {
   std::array<int, kNodeKinds> kind_count_{};
   std::vector<int> root_width_;
   std::vector<std::unique_ptr<elements::Element>> elements_;
-  std::vector<loads::BodyLoad> loads_;
-  std::vector<loads::DirectorNodeLoad> director_loads_;
+  std::vector<std::shared_ptr<const loads::Load>> loads_;
   std::vector<ShellInstance> shells_;
   std::vector<KLPatchInstance> kl_patches_;
   LinearConstraints linear_;
   // discrete_force's K: the fixed pattern and the part of each element and load.
   GlobalMatrix stiffness_;
-  std::vector<int> element_part_, load_part_, director_load_part_;
+  std::vector<int> element_part_, load_part_;
   std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
   std::vector<ConstraintInstance> nary_;

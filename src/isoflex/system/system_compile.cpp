@@ -12,6 +12,8 @@
 #include "isoflex/joints/director_joints.hpp"
 #include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/joints/point_joints.hpp"
+#include "isoflex/loads/body_load.hpp"
+#include "isoflex/loads/director_node_load.hpp"
 #include "isoflex/loads/patch_edge.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
@@ -264,7 +266,8 @@ void System::add_body_loads(Build& build) {
       }
       return f;
     };
-    loads_.emplace_back(node, X, compile3(L.force, "force"), compile3(L.moment, "moment"));
+    loads_.push_back(std::make_shared<loads::BodyLoad>(node, X, compile3(L.force, "force"),
+                                                       compile3(L.moment, "moment")));
   }
 }
 
@@ -291,7 +294,8 @@ void System::add_distributed_loads(Build& build) {
       } catch (const std::exception& ex) {
         fail(D.source, what + ".force_per_length", ex.what());
       }
-      loads_.emplace_back(beam->nodes[k], Vec3::Zero(), f, std::nullopt);
+      loads_.push_back(
+          std::make_shared<loads::BodyLoad>(beam->nodes[k], Vec3::Zero(), f, std::nullopt));
     }
   }
 }
@@ -338,7 +342,8 @@ void System::add_shell_loads(Build& build) {
         } else {
           f = scaled(*L.area_force, Vec3::Constant(weight[k]));
         }
-        director_loads_.emplace_back(shell->nodes[k], f, std::nullopt);
+        loads_.push_back(
+            std::make_shared<loads::DirectorNodeLoad>(shell->nodes[k], f, std::nullopt));
       }
       continue;
     }
@@ -357,7 +362,7 @@ void System::add_shell_loads(Build& build) {
       std::optional<std::array<loads::TimeFunction, 3>> f, m;
       if (L.force) f = scaled(*L.force, Vec3::Constant(w[k]));
       if (L.moment) m = scaled(*L.moment, Vec3::Constant(w[k]));
-      director_loads_.emplace_back(first + L.nodes[k], f, m);
+      loads_.push_back(std::make_shared<loads::DirectorNodeLoad>(first + L.nodes[k], f, m));
     }
   }
 }
