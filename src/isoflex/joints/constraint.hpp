@@ -2,11 +2,13 @@
 // The constraint contract (docs/architecture.md): rows Φ(q) = 0 over the stacked coordinates of
 // any set of nodes, at most quadratic in q — the condition under which the midpoint evaluation of
 // the constraint forces is an exact discrete gradient (DNSM-III (9)–(10)) — with their Jacobian
-// and the constant Hessians. `Joint` (joint.hpp) is the binary special case that also describes
-// its explicit elimination (parent and freedom blocks, update map), so that the spanning forest
-// can remove its rows; a `Constraint` has no elimination: its rows stay in every formulation as
-// loop-closing ("cut") rows, selected for independence with the loop rows of the joints
-// (IGA-thesis Alg. 5.1). Scleronomic: Φ does not depend on t.
+// and the constant Hessians. System evaluates every row of a model through it. `Joint`
+// (joint.hpp) is the binary special case that also describes its explicit elimination (parent
+// and freedom blocks, update map), so that the spanning forest can remove its rows; a joint
+// instance's rows are a Constraint through `JointRows` (joint_rows.hpp). Any other Constraint
+// has no elimination: its rows stay in every formulation as loop-closing ("cut") rows, selected
+// for independence with the loop rows of the joints (IGA-thesis Alg. 5.1). Scleronomic: Φ does
+// not depend on t.
 #include <vector>
 
 #include "isoflex/math/types.hpp"

@@ -282,18 +282,23 @@ void System::add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* 
   }
 }
 
+// Every row of the model after the nodes' internal rows, through the constraint contract: the
+// joints' rows (JointRows), then the n-ary constraints, with their first row.
+template <class F>
+void System::for_each_constraint(F&& f) const {
+  for (const auto& J : joints_) f(*J.rows, J.row_offset);
+  for (const auto& C : nary_) f(*C.constraint, C.row_offset);
+}
+
 VecX System::constraints(const VecX& q) const {
   VecX c(m_all_);
   for (int i = 0; i < node_count(); ++i) {
     const Node& nd = nodes_[i];
     c.segment(nd.row_offset, nd.type->internal_rows()) = nd.type->constraints(node_q(q, i));
   }
-  for (const auto& J : joints_)
-    c.segment(J.row_offset, J.joint->constraint_count()) =
-        J.joint->constraints(node_q(q, J.parent), node_q(q, J.child));
-  for (const auto& C : nary_)
-    c.segment(C.row_offset, C.constraint->constraint_count()) =
-        C.constraint->constraints(stacked(q, C.constraint->nodes()));
+  for_each_constraint([&](const joints::Constraint& C, int row) {
+    c.segment(row, C.constraint_count()) = C.constraints(stacked(q, C.nodes()));
+  });
   return c;
 }
 
@@ -302,22 +307,14 @@ SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
   Triplets t;
   for (int i = 0; i < node_count(); ++i)
     add_block(t, nodes_[i].row_offset, nodes_[i].q_offset, node_type(i).jacobian(node_q(q, i)));
-  for (const auto& J : joints_) {
-    const MatX G = J.joint->jacobian(node_q(q, J.parent), node_q(q, J.child));
-    const int m = J.joint->constraint_count();
-    const int na = joints::coordinate_count(J.joint->parent_kind());
-    if (J.parent >= 0) add_block(t, J.row_offset, nodes_[J.parent].q_offset, G.leftCols(na));
-    add_block(t, J.row_offset, nodes_[J.child].q_offset,
-              G.block(0, na, m, coordinate_count(J.child)));
-  }
-  for (const auto& C : nary_) {
-    const MatX G = C.constraint->jacobian(stacked(q, C.constraint->nodes()));
+  for_each_constraint([&](const joints::Constraint& C, int row) {
+    const MatX G = C.jacobian(stacked(q, C.nodes()));
     int o = 0;
-    for (int a : C.constraint->nodes()) {
-      add_block(t, C.row_offset, nodes_[a].q_offset, G.middleCols(o, coordinate_count(a)));
+    for (int a : C.nodes()) {
+      add_block(t, row, nodes_[a].q_offset, G.middleCols(o, coordinate_count(a)));
       o += coordinate_count(a);
     }
-  }
+  });
   SpMat all(m_all_, n());
   all.setFromTriplets(t.begin(), t.end());
   Triplets s;
@@ -343,29 +340,14 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
     nd.type->add_constraint_hessian(l.segment(nd.row_offset, nd.type->internal_rows()), H);
     add_block(t, nd.q_offset, nd.q_offset, H);
   }
-  for (const auto& J : joints_) {
-    const int na = joints::coordinate_count(J.joint->parent_kind());
-    const int nb = coordinate_count(J.child);
-    MatX H = MatX::Zero(na + nb, na + nb);
-    J.joint->add_constraint_hessian(l.segment(J.row_offset, J.joint->constraint_count()), H);
-    const int nodes[2] = {J.parent, J.child};
-    const int off[2] = {0, na}, size[2] = {na, nb};
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        if (nodes[a] >= 0 && nodes[b] >= 0)
-          add_block(t, nodes_[nodes[a]].q_offset, nodes_[nodes[b]].q_offset,
-                    H.block(off[a], off[b], size[a], size[b]));
-  }
-  for (const auto& C : nary_) {
-    const std::vector<int>& nodes = C.constraint->nodes();
-    const std::vector<int> coords = coordinates_of(nodes);
+  for_each_constraint([&](const joints::Constraint& C, int row) {
+    const std::vector<int> coords = coordinates_of(C.nodes());
     MatX H = MatX::Zero(coords.size(), coords.size());
-    C.constraint->add_constraint_hessian(l.segment(C.row_offset, C.constraint->constraint_count()),
-                                         H);
+    C.add_constraint_hessian(l.segment(row, C.constraint_count()), H);
     for (int j = 0; j < H.cols(); ++j)
       for (int i = 0; i < H.rows(); ++i)
         if (H(i, j) != 0.0) t.emplace_back(coords[i], coords[j], H(i, j));
-  }
+  });
   SpMat H(n(), n());
   H.setFromTriplets(t.begin(), t.end());
   return H;

@@ -55,6 +55,8 @@ struct JointInstance {
   bool reversed = false;  // parent/child swapped relative to body_a/body_b of the model
   int row_offset = 0;     // first row in the all-rows layout
   int nu_offset = -1;     // tree joints: first entry of τ in ν
+  // The same rows as a Constraint over (parent, child) (joints/joint_rows.hpp).
+  std::shared_ptr<const joints::Constraint> rows;
 };
 
 // An n-ary constraint (joints/constraint.hpp): rows over any set of nodes, always loop-closing
@@ -275,6 +277,9 @@ class System {
   Vec3 body_coordinates(int node, const std::optional<Vec3>& global,
                         const std::optional<Vec3>& local) const;
   void add_node(NodeKind kind, const VecX& q0, const std::string& name, int beam);
+  // f(constraint, first row) for the joints' rows, then the n-ary constraints.
+  template <class F>
+  void for_each_constraint(F&& f) const;
 
   std::vector<Node> nodes_;
   int internal_rows_ = 0;

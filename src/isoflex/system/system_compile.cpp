@@ -10,6 +10,7 @@
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/joints/director_joints.hpp"
+#include "isoflex/joints/joint_rows.hpp"
 #include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/joints/point_joints.hpp"
 #include "isoflex/loads/body_load.hpp"
@@ -733,14 +734,15 @@ void System::add_joint_instances(Build& build) {
     const auto* frame = dynamic_cast<const joints::FrameJoint*>(joint.get());
     const int m = joint->constraint_count();
     joints_.push_back({J.name.empty() ? what : J.name, model::to_string(J.type), std::move(joint),
-                       frame, parent, child, build.tree_parent_side[j] != 0, rev, row, -1});
+                       frame, parent, child, build.tree_parent_side[j] != 0, rev, row, -1,
+                       nullptr});
     row += m;
   }
   // Shell supports after the model joints: joints_ is indexed like build.edges.
   for (std::size_t j = n_model_joints; j < build.edges.size(); ++j) {
     const Build::Support& S = build.supports[j - n_model_joints];
     joints_.push_back({S.name, S.type, S.joint, nullptr, build.edges[j].a, build.edges[j].b,
-                       build.tree_parent_side[j] != 0, false, row, -1});
+                       build.tree_parent_side[j] != 0, false, row, -1, nullptr});
     row += S.joint->constraint_count();
   }
   for (ConstraintInstance& C : nary_) {
@@ -748,6 +750,8 @@ void System::add_joint_instances(Build& build) {
     row += C.constraint->constraint_count();
   }
   m_all_ = row;
+  for (JointInstance& J : joints_)
+    J.rows = std::make_shared<joints::JointRows>(J.joint, J.parent, J.child, ground_);
   int nu = 0;
   for (int root : roots_) {
     root_nu_offset_.push_back(nu);
