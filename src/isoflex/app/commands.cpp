@@ -52,6 +52,10 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
     fmt::print(err, "error: {}\n", e.what());
   } catch (const system::CompileError& e) {
     fmt::print(err, "error: {}\n", e.what());
+  } catch (const std::runtime_error& e) {
+    // A numerical failure while compiling that no model entry explains (e.g. a singular matrix
+    // in the initial velocity projection): still one line and exit code 2, not an abort.
+    fmt::print(err, "error: {}: the system could not be set up: {}\n", file, e.what());
   }
   return std::nullopt;
 }
@@ -241,9 +245,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                       ? o.threads
                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
-  // statics).
+  // statics); made inside the run's try block, so that a numerical failure there ends the run
+  // like a failing step.
   std::optional<integrate::EnergyMomentumIntegrator> integ;
-  if (!statics) integ.emplace(sys, m.solver);
   // From here on SIGINT and SIGTERM end the run after the step in progress (app/interrupt.hpp).
   const InterruptHandlers interrupts;
 
@@ -305,6 +309,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
         record({st.iterations, st.residual, st.cuts + 1});
       });
     } else {
+      integ.emplace(sys, m.solver);
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
       for (int i = 0; i < steps; ++i) record(integ->step(state));
@@ -321,6 +326,12 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.status = "interrupted";
     sum.message = "interrupted by " + signal_name(i.signal);
     code = exit_code_for_signal(i.signal);
+  } catch (const std::runtime_error& e) {
+    // A numerical failure outside a Newton iteration (a singular matrix while setting up the
+    // integrator or the load stepping): the run fails as a step does, with the cause.
+    sum.status = "failed";
+    sum.message = fmt::format("numerical failure: {}", e.what());
+    code = kExitNewtonFailure;
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::vector<std::string> output_errors;
