@@ -106,3 +106,62 @@ joints:
   EXPECT_TRUE(r.code == 0 || r.code == 3) << r.out;
   EXPECT_TRUE(fs::exists(out / "summary.json")) << r.out;
 }
+
+// The pinched hemisphere (coarse) under a load of 1e300: the linear solve gives displacements of
+// 1e298 and a strain energy that overflows (-nan); the run said "completed", exit 0, before.
+TEST(CliNumbers, NonFiniteResultsFailTheRun) {
+  const auto d = temp("non_finite");
+  std::string text = read_text(kExamples + "pinched_hemisphere/kl_shell_hole.yaml");
+  text = with(text, "knots_per_span: [15, 15]", "knots_per_span: [3, 3]");
+  text = with(text, R"(force: ["t", 0, 0])", R"(force: ["1e300*t", 0, 0])");
+  const fs::path m = model_file(d, "m.yaml", text);
+  const fs::path out = d.path() / "out";
+  const auto r = run_isoflex("run " + m.string() + " -o " + out.string());
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("load step 1 (t = 1): non-finite results: potential energy"),
+            std::string::npos)
+      << r.out;
+  const std::string s = read_text(out / "summary.json");
+  EXPECT_NE(s.find("\"status\": \"failed\""), std::string::npos) << s;
+  EXPECT_NE(s.find("non-finite results"), std::string::npos) << s;
+  // The outputs end with the last finite step (the initial state).
+  const std::string h = read_text(out / "history.csv");
+  EXPECT_EQ(std::count(h.begin(), h.end(), '\n'), 2) << h;
+  EXPECT_EQ(h.find("nan"), std::string::npos) << h;
+  EXPECT_TRUE(fs::exists(out / "results.pvd"));
+}
+
+// A Kirchhoff–Love shell 4e-302 thick on a hemisphere of radius 10: a located model error for
+// check and run (it ran to "completed" with -nan energy and 1e304 displacements before).
+TEST(CliNumbers, AbsurdlyThinKLShellIsAModelError) {
+  const auto d = temp("thin_kl");
+  std::string text = read_text(kExamples + "pinched_hemisphere/kl_shell_hole.yaml");
+  text = with(text, "thickness: 0.04}", "thickness: 4.0000000000000004e-302}");
+  const fs::path m = model_file(d, "m.yaml", text);
+  const std::string run = "run " + m.string() + " -o " + (d.path() / "out").string();
+  for (const std::string& args : {"check " + m.string(), run}) {
+    const auto r = run_isoflex(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.out;
+    EXPECT_NE(r.out.find("m.yaml:26: kl_shells[0].material.thickness: 4.0000000000000004e-302 "
+                         "is below 1e-12 x the model size"),
+              std::string::npos)
+        << r.out;
+  }
+  EXPECT_FALSE(fs::exists(d.path() / "out" / "summary.json"));
+}
+
+// The same bound for a director shell (its nodes' bounding box).
+TEST(CliNumbers, AbsurdlyThinDirectorShellIsAModelError) {
+  const auto d = temp("thin_director");
+  const std::string text = read_text(kExamples + "pinched_hemisphere/director_shell.yaml");
+  const auto at = text.find("thickness: ");
+  ASSERT_NE(at, std::string::npos);
+  const auto end = text.find_first_of(",}", at);
+  const fs::path m =
+      model_file(d, "m.yaml", text.substr(0, at) + "thickness: 1e-20" + text.substr(end));
+  const auto r = run_isoflex("check " + m.string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("shells[0].material.thickness: 1e-20 is below 1e-12 x the model size"),
+            std::string::npos)
+      << r.out;
+}

@@ -118,6 +118,28 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
              eq.unknowns());
 }
 
+// What of a step's results is not finite ("" if all is): the energies, then the coordinates q
+// and velocities v with how many entries and the first. A cheap scan (O(n)) after every step, so
+// that overflow (e.g. an absurdly thin shell) ends the run instead of being written as results.
+std::string non_finite_results(const integrate::Snapshot& snap, const integrate::State& state) {
+  std::vector<std::string> parts;
+  if (!std::isfinite(snap.kinetic_energy)) parts.push_back("kinetic energy");
+  if (!std::isfinite(snap.potential_energy)) parts.push_back("potential energy");
+  const auto vector_part = [&](const VecX& x, const char* name) {
+    Eigen::Index count = 0, first = -1;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i]) && count++ == 0) first = i;
+    if (count > 0)
+      parts.push_back(fmt::format("{} ({} of {} entries, the first at index {})", name, count,
+                                  x.size(), first));
+  };
+  vector_part(state.q, "coordinates q");
+  vector_part(state.v, "velocities v");
+  std::string text;
+  for (const std::string& p : parts) text += (text.empty() ? "" : ", ") + p;
+  return text;
+}
+
 }  // namespace
 
 int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
@@ -279,7 +301,13 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // After every step (time step or accepted load step): the summary's figures, the outputs, and
   // the end of the run if a signal came.
   const auto record = [&](const integrate::StepStats& st) {
-    snap = integrate::snapshot(sys, state, st, names);
+    const integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
+    // Checked before anything of the step is recorded: the outputs end with the last finite step.
+    if (const std::string bad = non_finite_results(next, state); !bad.empty())
+      throw integrate::NewtonFailure(fmt::format("{} {} (t = {:.6g}): non-finite results: {}",
+                                                 statics ? "load step" : "step", sum.steps + 1,
+                                                 state.t, bad));
+    snap = next;
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
     sum.max_constraint_violation =
