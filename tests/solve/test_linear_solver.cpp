@@ -77,3 +77,17 @@ TEST(FixedPatternCholesky, MatchesDenseSolveAndRejectsIndefinite) {
   EXPECT_EQ(llt.analyses(), 1);
   EXPECT_THROW(llt.solve(grid_matrix(15, -4.5, 0.0), VecX::Ones(225)), std::runtime_error);
 }
+
+// Empty problems (a system without freedom: no tree coordinates, or no null space left) give
+// empty answers; Eigen's decompositions assert on empty matrices (#15).
+TEST(LinearSolver, EmptyMatricesGiveEmptyAnswers) {
+  EXPECT_EQ(solve::least_squares(MatX(6, 0), VecX::Ones(6)).size(), 0);
+  EXPECT_EQ(solve::least_squares(MatX(0, 3), VecX(0)), VecX::Zero(3));
+  EXPECT_TRUE(solve::independent_rows_lu(MatX(5, 0)).empty());
+  EXPECT_TRUE(solve::independent_rows_qr(MatX(5, 0)).empty());
+  MatX W, U;
+  solve::qr_range_and_null_space(MatX(0, 4), W, U);
+  EXPECT_EQ(W.rows(), 4);
+  EXPECT_EQ(W.cols(), 0);
+  EXPECT_EQ(U, MatX::Identity(4, 4));
+}

@@ -1,9 +1,8 @@
-#include "isoflex/solve/normal_equations.hpp"
-
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "isoflex/solve/normal_equations.hpp"
 #include "support/finite_difference.hpp"
 
 using namespace isoflex;
@@ -48,4 +47,20 @@ TEST(NormalEquations, RankDeficientJacobianThrows) {
   G.insert(1, 0) = 2.0;
   solve::NormalEquations ne;
   EXPECT_THROW(ne.solve(G, VecX::Ones(2)), std::runtime_error);
+}
+
+// G of full rank whose G Gᵀ is singular in floating point (1 + 1e18 rounds to 1e18): a joint 1e9
+// from its body. Solved through a QR of Gᵀ (it threw "rank deficient" before, #15).
+TEST(NormalEquations, FullRankGWithSingularGGtIsSolved) {
+  MatX Gd(2, 2);
+  Gd << 1.0, 1e9, 0.0, 1e9;
+  const SpMat G = Gd.sparseView();
+  const VecX y = VecX::Ones(2);
+  solve::NormalEquations ne;
+  const VecX lambda = ne.solve(G, G * y);
+  EXPECT_TRUE(lambda.allFinite());
+  EXPECT_EQ(ne.fallbacks(), 1);
+  // G y = G Gᵀ λ has the solution λ = G⁻ᵀ y (G square and invertible): λ = (1, -1 + 1e-9).
+  EXPECT_NEAR(lambda(0), 1.0, 1e-6);
+  EXPECT_NEAR(lambda(1), -1.0 + 1e-9, 1e-6);
 }

@@ -52,6 +52,10 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
     fmt::print(err, "error: {}\n", e.what());
   } catch (const system::CompileError& e) {
     fmt::print(err, "error: {}\n", e.what());
+  } catch (const std::runtime_error& e) {
+    // A numerical failure while compiling that no model entry explains (e.g. a singular matrix
+    // in the initial velocity projection): still one line and exit code 2, not an abort.
+    fmt::print(err, "error: {}: the system could not be set up: {}\n", file, e.what());
   }
   return std::nullopt;
 }
@@ -112,6 +116,28 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
   fmt::print(out,
              "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
              eq.unknowns());
+}
+
+// What of a step's results is not finite ("" if all is): the energies, then the coordinates q
+// and velocities v with how many entries and the first. A cheap scan (O(n)) after every step, so
+// that overflow (e.g. an absurdly thin shell) ends the run instead of being written as results.
+std::string non_finite_results(const integrate::Snapshot& snap, const integrate::State& state) {
+  std::vector<std::string> parts;
+  if (!std::isfinite(snap.kinetic_energy)) parts.push_back("kinetic energy");
+  if (!std::isfinite(snap.potential_energy)) parts.push_back("potential energy");
+  const auto vector_part = [&](const VecX& x, const char* name) {
+    Eigen::Index count = 0, first = -1;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i]) && count++ == 0) first = i;
+    if (count > 0)
+      parts.push_back(fmt::format("{} ({} of {} entries, the first at index {})", name, count,
+                                  x.size(), first));
+  };
+  vector_part(state.q, "coordinates q");
+  vector_part(state.v, "velocities v");
+  std::string text;
+  for (const std::string& p : parts) text += (text.empty() ? "" : ", ") + p;
+  return text;
 }
 
 }  // namespace
@@ -241,9 +267,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                       ? o.threads
                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
-  // statics).
+  // statics); made inside the run's try block, so that a numerical failure there ends the run
+  // like a failing step.
   std::optional<integrate::EnergyMomentumIntegrator> integ;
-  if (!statics) integ.emplace(sys, m.solver);
   // From here on SIGINT and SIGTERM end the run after the step in progress (app/interrupt.hpp).
   const InterruptHandlers interrupts;
 
@@ -275,7 +301,13 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // After every step (time step or accepted load step): the summary's figures, the outputs, and
   // the end of the run if a signal came.
   const auto record = [&](const integrate::StepStats& st) {
-    snap = integrate::snapshot(sys, state, st, names);
+    const integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
+    // Checked before anything of the step is recorded: the outputs end with the last finite step.
+    if (const std::string bad = non_finite_results(next, state); !bad.empty())
+      throw integrate::NewtonFailure(fmt::format("{} {} (t = {:.6g}): non-finite results: {}",
+                                                 statics ? "load step" : "step", sum.steps + 1,
+                                                 state.t, bad));
+    snap = next;
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
     sum.max_constraint_violation =
@@ -305,6 +337,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
         record({st.iterations, st.residual, st.cuts + 1});
       });
     } else {
+      integ.emplace(sys, m.solver);
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
       for (int i = 0; i < steps; ++i) record(integ->step(state));
@@ -321,6 +354,12 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.status = "interrupted";
     sum.message = "interrupted by " + signal_name(i.signal);
     code = exit_code_for_signal(i.signal);
+  } catch (const std::runtime_error& e) {
+    // A numerical failure outside a Newton iteration (a singular matrix while setting up the
+    // integrator or the load stepping): the run fails as a step does, with the cause.
+    sum.status = "failed";
+    sum.message = fmt::format("numerical failure: {}", e.what());
+    code = kExitNewtonFailure;
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::vector<std::string> output_errors;

@@ -79,6 +79,8 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
   if (!(s.nu > -1.0 && s.nu < 0.5))
     fail(m["nu"], join(mp, "nu"), "Poisson's ratio must lie in (−1, 0.5)");
   s.thickness = positive(require(m, mp, "thickness"), join(mp, "thickness"));
+  relative_size(m["thickness"], join(mp, "thickness"), s.thickness, bounding_box_diagonal(g.points),
+                fmt::format("the bounding box of the control points of surface \"{}\"", s.surface));
   if (const auto d = m["density"]) s.density = positive(d, join(mp, "density"));
 
   if (const auto q = n["quadrature"]) {

@@ -201,6 +201,8 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
   }
   if (n["elements"] && !n["surface"] && !n["mesh"])
     fail(n["elements"], join(p, "elements"), "only used with surface (a plate has its own)");
+  relative_size(m["thickness"], join(mp, "thickness"), s.material.thickness,
+                bounding_box_diagonal(s.points), "the bounding box of the shell's nodes");
   return s;
 }
 

@@ -97,6 +97,25 @@ double YamlFields::positive(const YAML::Node& n, const std::string& key) const {
   return x;
 }
 
+double bounding_box_diagonal(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0.0;
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& x : points) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  return (hi - lo).norm();
+}
+
+void YamlFields::relative_size(const YAML::Node& n, const std::string& key, double value,
+                               double size, const std::string& of) const {
+  const double bound = kMinRelativeThickness * size;
+  if (!(value >= bound))
+    fail(n, key,
+         fmt::format("{} is below {:g} x the model size: {:g} x {:.6g} ({}) = {:.6g}", value,
+                     kMinRelativeThickness, kMinRelativeThickness, size, of, bound));
+}
+
 int YamlFields::integer(const YAML::Node& n, const std::string& key, int min) const {
   int k = 0;
   if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");

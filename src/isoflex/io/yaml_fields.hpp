@@ -21,6 +21,12 @@ std::string join(const std::string& path, std::string_view key);   // "a.b"
 std::string indexed(const std::string& path, std::size_t i);       // "a[i]"
 std::string list_names(std::initializer_list<const char*> names);  // "x, y, z"
 
+// The diagonal of the bounding box of `points` (0 for none).
+double bounding_box_diagonal(const std::vector<Vec3>& points);
+
+// The smallest thickness relative to the model size (YamlFields::relative_size).
+inline constexpr double kMinRelativeThickness = 1e-12;
+
 class YamlFields {
  public:
   explicit YamlFields(std::string file) : file_(std::move(file)) {}
@@ -44,6 +50,11 @@ class YamlFields {
   std::string string(const YAML::Node& n, const std::string& key) const;
   double number(const YAML::Node& n, const std::string& key) const;  // finite
   double positive(const YAML::Node& n, const std::string& key) const;
+  // A thickness (or cross-section size) `value`, read at `n`, against the size of the geometry it
+  // belongs to (`size`, the diagonal of its bounding box, described by `of`): below 1e-12 × size
+  // the bending stiffness (∝ h³) is lost to round-off beside the rest and a run overflows.
+  void relative_size(const YAML::Node& n, const std::string& key, double value, double size,
+                     const std::string& of) const;
   int integer(const YAML::Node& n, const std::string& key, int min) const;
   bool boolean(const YAML::Node& n, const std::string& key) const;
   Vec3 vec3(const YAML::Node& n, const std::string& key) const;

@@ -140,8 +140,10 @@ VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
   return x;
 }
 
+// An empty G (no rows, or no columns: rows over a system without freedom, e.g. a locked loop) has
+// rank 0; Eigen's rank-revealing decompositions assert on empty matrices, so these return early.
 std::vector<int> independent_rows_lu(const MatX& G, double threshold) {
-  if (G.rows() == 0) return {};
+  if (G.rows() == 0 || G.cols() == 0) return {};
   Eigen::FullPivLU<MatX> lu(G);
   lu.setThreshold(threshold);
   const int r = static_cast<int>(lu.rank());
@@ -155,7 +157,7 @@ std::vector<int> independent_rows_lu(const MatX& G, double threshold) {
 }
 
 std::vector<int> independent_rows_qr(const MatX& G, double threshold) {
-  if (G.rows() == 0) return {};
+  if (G.rows() == 0 || G.cols() == 0) return {};
   Eigen::ColPivHouseholderQR<MatX> qr(G.transpose());
   qr.setThreshold(threshold);
   const int r = static_cast<int>(qr.rank());
@@ -167,6 +169,11 @@ std::vector<int> independent_rows_qr(const MatX& G, double threshold) {
 
 void qr_range_and_null_space(const MatX& G, MatX& W, MatX& U) {
   const int m = static_cast<int>(G.rows()), n = static_cast<int>(G.cols());
+  if (m == 0 || n == 0) {  // no rows: all of Rⁿ is the null space
+    W = MatX::Zero(n, m);
+    U = MatX::Identity(n, n - m > 0 ? n - m : 0);
+    return;
+  }
   Eigen::HouseholderQR<MatX> qr(G.transpose());
   const MatX Q = qr.householderQ() * MatX::Identity(n, n);
   W = Q.leftCols(m);
@@ -174,12 +181,15 @@ void qr_range_and_null_space(const MatX& G, MatX& W, MatX& U) {
 }
 
 double condition_number(const MatX& A) {
+  if (A.size() == 0) return 1.0;  // the identity of nothing
   Eigen::BDCSVD<MatX> svd(A);
   const VecX& s = svd.singularValues();
   return s(0) / s(s.size() - 1);
 }
 
 VecX least_squares(const MatX& A, const VecX& b) {
+  // No unknowns (a system without freedom) or no equations: the zero solution.
+  if (A.rows() == 0 || A.cols() == 0) return VecX::Zero(A.cols());
   return A.colPivHouseholderQr().solve(b);
 }
 

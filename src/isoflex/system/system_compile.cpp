@@ -773,7 +773,9 @@ void System::check_assembled(const Build& build) const {
   const std::size_t n_model_joints = model.joints.size();
   const VecX c = constraints(q0_);
   for (const auto& J : joints_) {
-    const double v = c.segment(J.row_offset, J.joint->constraint_count()).cwiseAbs().maxCoeff();
+    const int rows = J.joint->constraint_count();
+    if (rows == 0) continue;  // nothing to hold (and maxCoeff of nothing asserts)
+    const double v = c.segment(J.row_offset, rows).cwiseAbs().maxCoeff();
     if (v <= 1e-9) continue;
     const std::size_t j = static_cast<std::size_t>(&J - joints_.data());
     const bool support = j >= n_model_joints;
