@@ -12,6 +12,7 @@
 
 #include "support/cli.hpp"
 #include "support/files.hpp"
+#include "support/pendulum_yaml.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,19 +31,8 @@ std::string read(const fs::path& p) {
   return isoflex::test::read_text(p);
 }
 
-const char* kGood = R"(name: pendulum
-gravity: [0, 0, -9.81]
-solver: {dt: 0.01, t_end: 0.2}
-bodies:
-  - name: bob
-    mass: 1.0
-    inertia: [0.1, 0.1, 0.1]
-    position: [1, 0, 0]
-joints:
-  - {type: spherical, body_b: bob, point: [0, 0, 0]}
-probes:
-  - {name: bob, body: bob}
-)";
+const std::string kGood =
+    isoflex::test::pendulum_yaml("{dt: 0.01, t_end: 0.2}", "probes:\n  - {name: bob, body: bob}\n");
 
 std::string with(std::string text, const std::string& from, const std::string& to) {
   const auto p = text.find(from);

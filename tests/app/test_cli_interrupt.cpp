@@ -13,6 +13,7 @@
 
 #include "support/child_process.hpp"
 #include "support/files.hpp"
+#include "support/pendulum_yaml.hpp"
 #include "support/run_outputs.hpp"
 
 namespace fs = std::filesystem;
@@ -22,20 +23,8 @@ using isoflex::test::read_text;
 namespace {
 
 // A pendulum for a million steps: far longer than the test waits.
-const char* kLongPendulum = R"(name: pendulum
-gravity: [0, 0, -9.81]
-solver: {dt: 0.001, t_end: 1000}
-output: {vtk_every: 10}
-bodies:
-  - name: bob
-    mass: 1.0
-    inertia: [0.1, 0.1, 0.1]
-    position: [1, 0, 0]
-joints:
-  - {type: spherical, body_b: bob, point: [0, 0, 0]}
-probes:
-  - {name: bob, body: bob}
-)";
+const std::string kLongPendulum = isoflex::test::pendulum_yaml(
+    "{dt: 0.001, t_end: 1000}\noutput: {vtk_every: 10}", "probes:\n  - {name: bob, body: bob}\n");
 
 // Starts `isoflex ARGS` writing to `out`, sends `sig` once history.csv has 20 rows, and checks
 // the exit code and what the run left behind.

@@ -12,6 +12,7 @@
 
 #include "support/cli.hpp"
 #include "support/files.hpp"
+#include "support/pendulum_yaml.hpp"
 #include "support/run_outputs.hpp"
 
 namespace fs = std::filesystem;
@@ -19,17 +20,7 @@ using isoflex::test::read_text;
 
 namespace {
 
-const char* kPendulum = R"(name: pendulum
-gravity: [0, 0, -9.81]
-solver: {dt: 0.01, t_end: 0.2}
-bodies:
-  - name: bob
-    mass: 1.0
-    inertia: [0.1, 0.1, 0.1]
-    position: [1, 0, 0]
-joints:
-  - {type: spherical, body_b: bob, point: [0, 0, 0]}
-)";
+const std::string kPendulum = isoflex::test::pendulum_yaml();
 
 fs::path temp_dir(const std::string& name) {
   return isoflex::test::temp_dir("isoflex_cli_output_", name);
