@@ -4,7 +4,7 @@
 // never the bottleneck for p ≤ 4, and total static solve time growing near-linearly with the DOFs
 // up to 10⁵ DOFs". See bench/kl_shell.md.
 //
-//   kl_shell_bench --mode assembly|split|scaling|solvers [--degrees 2,3,4,5] [--n 50]
+//   kl_shell_bench --mode assembly|gradient|split|scaling|solvers [--degrees 2,3,4,5] [--n 50]
 //                  [--sizes 10,20,40,70,100,140,180] [--kinematics linear,nonlinear]
 //                  [--load-factor F] [--steps S] [--min-seconds T] [--repeat R]
 //                  [--max-seconds S] [--tangent-only] [--threads T]
@@ -28,6 +28,10 @@
 //             its own, then the later calls); median CPU time per call over ≥ R calls and ≥ T
 //             CPU seconds;
 //             ns per quadrature point and points per second; DOFs, nnz(K).
+//   gradient  per p on the N × N patch: the discrete gradient DV(x₀, x₁) (the energy–momentum
+//             step's, docs/theory/kl-shell.md §10) against the internal force at x₁, with and
+//             without the tangent, x₀ = X + u and x₁ = X + 1.1 u; median CPU time per call and
+//             the ratios (formerly timed inside the unit tests).
 //   split     per p a nonlinear static solve on the N × N patch (S load steps of F · self-weight):
 //             assembly (residual + tangent, the value map into the Newton matrix) vs linear solve
 //             (factorization included) from LoadStepStats, per evaluation, per solve and in all;
@@ -75,7 +79,7 @@ using Clock = std::chrono::steady_clock;
 using elements::KLKinematics;
 using SpMat = Eigen::SparseMatrix<double>;
 
-enum class Mode { assembly, split, scaling, solvers };
+enum class Mode { assembly, gradient, split, scaling, solvers };
 
 struct Options {
   Mode mode = Mode::assembly;
@@ -97,7 +101,8 @@ struct Options {
 [[noreturn]] void usage(const std::string& msg) {
   std::fprintf(stderr,
                "kl_shell_bench: %s\n"
-               "usage: kl_shell_bench --mode assembly|split|scaling|solvers [--degrees 2,3,4,5]\n"
+               "usage: kl_shell_bench --mode assembly|gradient|split|scaling|solvers\n"
+               "                      [--degrees 2,3,4,5]\n"
                "                      [--n 50] [--sizes 10,20,40,70,100,140,180]\n"
                "                      [--kinematics linear,nonlinear] [--load-factor 5]\n"
                "                      [--steps 2] [--min-seconds 1] [--repeat 3]\n"
@@ -115,6 +120,8 @@ Options parse(int argc, char** argv) {
       o.mode_given = true;
       if (v == "assembly")
         o.mode = Mode::assembly;
+      else if (v == "gradient")
+        o.mode = Mode::gradient;
       else if (v == "split")
         o.mode = Mode::split;
       else if (v == "scaling")
@@ -341,6 +348,38 @@ void run_assembly(const Options& o) {
       "in "
       "the patch);\nwall% = wall / CPU of nl+K (100: undisturbed); K/r = nl+K over "
       "nl_r\n");
+}
+
+// --- gradient ------------------------------------------------------------------------------------
+
+void run_gradient(const Options& o) {
+  fmt::print(
+      "Scordelis-Lo roof (full), {0} x {0} knot spans; x0 = X + u, x1 = X + 1.1 u; median CPU s "
+      "per call of >= {1} calls and >= {2:g} CPU s\n\n",
+      o.n, o.repeat, o.min_seconds);
+  fmt::print("{:>2} {:>5} {:>7} {:>7} | {:>9} {:>9} {:>6} | {:>9} {:>9} {:>6}\n", "p", "N", "dofs",
+             "qp", "f+K_s", "DV+K_s", "ratio", "f_s", "DV_s", "ratio");
+  for (int p : o.degrees) {
+    const auto patch = roof_patch(roof(p, o.n), o.threads);
+    const VecX X = patch.reference_positions();
+    const VecX x0 = deformed(patch), x1 = x0 + 0.1 * (x0 - X);
+    SpMat K = patch.pattern();
+    VecX r;
+    const auto nl = KLKinematics::nonlinear;
+    const Timing fk =
+        time_calls([&] { r = patch.internal_force(x1, nl, &K); }, o.repeat, o.min_seconds);
+    const Timing gk =
+        time_calls([&] { r = patch.discrete_gradient(x0, x1, nl, &K); }, o.repeat, o.min_seconds);
+    const Timing f =
+        time_calls([&] { r = patch.internal_force(x1, nl, nullptr); }, o.repeat, o.min_seconds);
+    const Timing g = time_calls([&] { r = patch.discrete_gradient(x0, x1, nl, nullptr); }, o.repeat,
+                                o.min_seconds);
+    fmt::print(
+        "{:>2} {:>5} {:>7} {:>7} | {:>9.4f} {:>9.4f} {:>6.2f} | {:>9.4f} {:>9.4f} {:>6.2f}\n", p,
+        o.n, patch.dofs(), patch.quadrature_points(), fk.cpu, gk.cpu, gk.cpu / fk.cpu, f.cpu, g.cpu,
+        g.cpu / f.cpu);
+    std::fflush(stdout);
+  }
 }
 
 // --- static solves (split, scaling) --------------------------------------------------------------
@@ -581,6 +620,9 @@ int main(int argc, char** argv) {
     switch (o.mode) {
       case Mode::assembly:
         run_assembly(o);
+        break;
+      case Mode::gradient:
+        run_gradient(o);
         break;
       case Mode::split:
         run_split(o);

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -338,38 +337,4 @@ TEST(KLShellDiscreteGradient, EqualStatesGiveTheInternalForce) {
   bad(0) = std::nan("");
   EXPECT_THROW(patch.discrete_gradient(bad, X, KLKinematics::nonlinear, nullptr),
                std::invalid_argument);
-}
-
-// Cost of discrete_gradient with tangent against internal_force with tangent, 20 × 20 bicubic
-// elements, one thread (reported, not asserted: the figure depends on the machine's load).
-TEST(KLShellDiscreteGradient, Cost) {
-  const NurbsSurface s =
-      geometry::k_refine(geometry::cylinder_sector(1.0, 2.0, kPi / 2), 1, 2, 19, 19);
-  const KLShellPatch patch(s, section(0.01));
-  std::mt19937 g(38);
-  const VecX X = patch.reference_positions();
-  const VecX x0 = X + random_vector(g, patch.dofs(), 1e-2),
-             x1 = x0 + random_vector(g, patch.dofs(), 1e-3);
-  elements::SpMat K;
-  patch.internal_force(x0, KLKinematics::nonlinear, &K);
-  auto best = [](auto&& f) {
-    double t = 1e30;
-    for (int i = 0; i < 5; ++i) {
-      const auto t0 = std::chrono::steady_clock::now();
-      f();
-      t = std::min(t, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return t;
-  };
-  const double t_if = best([&] { patch.internal_force(x1, KLKinematics::nonlinear, &K); });
-  const double t_dg = best([&] { patch.discrete_gradient(x0, x1, KLKinematics::nonlinear, &K); });
-  const double t_dg_r =
-      best([&] { patch.discrete_gradient(x0, x1, KLKinematics::nonlinear, nullptr); });
-  const double t_if_r = best([&] { patch.internal_force(x1, KLKinematics::nonlinear, nullptr); });
-  EXPECT_EQ(patch.elements(), 400);
-  report("20x20 p=3: internal_force + K [s]", t_if);
-  report("20x20 p=3: discrete_gradient + K [s]", t_dg);
-  report("20x20 p=3: ratio (with K)", t_dg / t_if);
-  report("20x20 p=3: internal_force only [s]", t_if_r);
-  report("20x20 p=3: discrete_gradient only [s]", t_dg_r);
 }

@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -569,31 +568,4 @@ TEST(KLShellPatch, ThreadsGiveTheSameResultBitForBit) {
   EXPECT_EQ(patch.threads_used(), 4);
   patch.set_threads(0);
   EXPECT_EQ(patch.threads(), 1);
-}
-
-// The tangent of a 50 × 50-element bicubic patch (2 809 control points, 40 000 points).
-TEST(KLShellPatch, AssemblyTime) {
-  const NurbsSurface s =
-      geometry::k_refine(geometry::cylinder_sector(1.0, 2.0, kPi / 2), 1, 2, 49, 49);
-  const KLShellPatch patch(s, section(1.0e3, 0.3, 0.01));
-  std::mt19937 g(3);
-  const VecX x = patch.reference_positions() + random_vector(g, patch.dofs(), 1e-3);
-  elements::SpMat K;
-  patch.internal_force(x, KLKinematics::nonlinear, &K);  // first call: pattern copied
-  auto time = [&](KLKinematics kin, elements::SpMat* KK) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const VecX r = patch.internal_force(x, kin, KK);
-    const auto t1 = std::chrono::steady_clock::now();
-    EXPECT_TRUE(r.allFinite());
-    return std::chrono::duration<double>(t1 - t0).count();
-  };
-  const double t_rk = time(KLKinematics::nonlinear, &K);
-  const double t_r = time(KLKinematics::nonlinear, nullptr);
-  const double t_lin = time(KLKinematics::linear, &K);
-  EXPECT_EQ(patch.elements(), 2500);
-  EXPECT_LT(t_rk, 2.0);  // ~10x margin for a loaded machine; the figure is reported
-  report("50x50 p=3: residual + tangent [s]", t_rk);
-  report("50x50 p=3: residual only [s]", t_r);
-  report("50x50 p=3: linear residual + tangent [s]", t_lin);
-  report("50x50 p=3: non-zeros of K", static_cast<double>(K.nonZeros()));
 }
