@@ -19,13 +19,13 @@
 // from the last equilibrium with half the increment, never below the nominal increment / 2^max_cuts
 // (the run stops there), and after grow_after consecutive steps that converged in
 // ≤ easy_iterations iterations it is doubled
-// again (never beyond the nominal increment). Convergence per step (the one Newton loop, integrate/newton_loop.hpp):
-// ‖R‖∞ ≤ residual_tolerance · scale with scale = max(force_floor, ‖f_ext‖∞, ‖reactions‖∞), or a
-// correction ‖Δx‖∞ ≤ increment_tolerance · max(‖x‖∞, ‖X‖∞) over the configuration entries of x
-// (a round-off-level step).
-// Failure: integrate::NewtonFailure naming the load step, the load factor tried and the one
-// reached, the iterations and the residual reached; a residual that grew by six orders of
-// magnitude (or overflowed) is reported as diverged, with the scale at the start of the step.
+// again (never beyond the nominal increment). Convergence per step (the one Newton loop,
+// integrate/newton_loop.hpp): ‖R‖∞ ≤ residual_tolerance · scale with scale = max(force_floor,
+// ‖f_ext‖∞, ‖reactions‖∞), or a correction ‖Δx‖∞ ≤ increment_tolerance · max(‖x‖∞, ‖X‖∞) over the
+// configuration entries of x (a round-off-level step). Failure: integrate::NewtonFailure naming the
+// load step, the load factor tried and the one reached, the iterations and the residual reached; a
+// residual that grew by six orders of magnitude (or overflowed) is reported as diverged, with the
+// scale at the start of the step.
 #include <Eigen/SparseCore>
 #include <functional>
 #include <memory>
