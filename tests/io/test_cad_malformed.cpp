@@ -38,19 +38,18 @@ bool contains(const std::string& text, const std::string& what) {
 }  // namespace
 
 // A STEP file with the line of one CARTESIAN_POINT deleted: OCCT 7.6 dereferences the missing
-// point during the transfer (SIGSEGV), which took the whole process down.
+// point during the transfer (SIGSEGV), which took the whole process down. The tests accept any
+// signal: under AddressSanitizer the same crash is reported and ends in SIGABRT.
 TEST(CadMalformed, StepCrashInOpenCascadeIsALocatedError) {
   const std::string m = cad_error(kBad + "step_cartesian_point_12_deleted.stp");
-  EXPECT_TRUE(contains(m,
-                       "OpenCASCADE crashed (SIGSEGV: Segmentation fault) while translating "
-                       "the STEP entities into shapes"))
-      << m;
+  EXPECT_TRUE(contains(m, "OpenCASCADE crashed (SIG")) << m;
+  EXPECT_TRUE(contains(m, ") while translating the STEP entities into shapes")) << m;
 }
 
 // IGES entity 128 with degree 100 in u (the knot and weight counts then no longer match).
 TEST(CadMalformed, IgesDegree100CrashIsALocatedError) {
   const std::string m = cad_error(kBad + "iges_128_degree_100.igs");
-  EXPECT_TRUE(contains(m, "OpenCASCADE crashed (SIGSEGV")) << m;
+  EXPECT_TRUE(contains(m, "OpenCASCADE crashed (SIG")) << m;
   EXPECT_TRUE(contains(m, "while parsing the IGES file")) << m;
 }
 
@@ -71,7 +70,7 @@ TEST(CadMalformed, CrashThroughAModelFileIsAModelError) {
       "    cad: {file: " +
       file + "}\n");
   EXPECT_TRUE(contains(e, "m.yaml:3: surfaces[0].cad.file: cannot read CAD file \"" + file +
-                              "\": OpenCASCADE crashed (SIGSEGV"))
+                              "\": OpenCASCADE crashed (SIG"))
       << e;
 }
 

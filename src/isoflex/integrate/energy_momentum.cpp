@@ -280,8 +280,13 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   const bool cuts = !sys_.cut_rows().empty();
   if (cuts) {
     const MatX Gc = MatX(sys_.jacobian_rows(qm, sys_.cut_rows()) * P);
-    const MatX GW = Gc * c.W;
-    const MatX Pc = c.U - c.W * GW.partialPivLu().solve(Gc * c.U);  // (13)
+    // A locked mechanism (no columns in U) has nothing to project; Eigen's LU of an empty
+    // block would bind a null reference.
+    MatX Pc = c.U;
+    if (c.U.cols() > 0) {
+      const MatX GW = Gc * c.W;
+      Pc -= c.W * GW.partialPivLu().solve(Gc * c.U);  // (13)
+    }
     P = (P * Pc).sparseView();
   }
   const int kred = static_cast<int>(P.cols());
