@@ -107,7 +107,8 @@ RunResult run(const system::System& sys, const model::Solver& settings, int repe
       const auto st = integ.step(s);
       stepping += Clock::now() - t0;
       iterations += st.iterations;
-      x.max_violation = std::max(x.max_violation, sys.constraints(s.q).lpNorm<Eigen::Infinity>());
+      x.max_violation =
+          std::max(x.max_violation, sys.constraints(s.q, s.t).lpNorm<Eigen::Infinity>());
     }
     x.seconds = seconds(stepping);
     x.iterations_per_step = double(iterations) / std::max(1, x.steps);

@@ -159,8 +159,8 @@ RunResult run(int N, Formulation f, const Options& o) {
       stepping += Clock::now() - t0;
       ++r.steps_done;
       iterations += st.iterations;
-      r.max_violation =
-          std::max(r.max_violation, sys.constraints(s.q).lpNorm<Eigen::Infinity>());  // untimed
+      r.max_violation = std::max(r.max_violation,
+                                 sys.constraints(s.q, s.t).lpNorm<Eigen::Infinity>());  // untimed
       if (o.max_seconds > 0 && cpu > o.max_seconds && i + 1 < o.steps) {
         r.status = fmt::format("stopped by --max-seconds after {} steps", r.steps_done);
         break;

@@ -172,14 +172,13 @@ TEST(KLCli, BadInputExitsWith2) {
                        "mass"),
             std::string::npos)
       << r.out;
-  // And has no time-dependent constraints: a prescribed displacement is static only.
+  // A prescribed displacement in a dynamic run starts at 0.
   dynamic.replace(dynamic.find("thickness: 0.01}"), 16, "thickness: 0.01, density: 1}");
-  dynamic.replace(dynamic.find("fixed: all"), 10, "displacement: [0, 0, \"t\"]");
+  dynamic.replace(dynamic.find("fixed: all"), 10, "displacement: [0, 0, \"1+t\"]");
   std::ofstream(d / "m.yaml") << dynamic;
   r = run("run " + (d / "m.yaml").string() + " -o " + (d / "o").string());
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.out.find("m.yaml:12: kl_supports[0]: a prescribed displacement acts in static "
-                       "analyses only for now"),
+  EXPECT_NE(r.out.find("m.yaml:12: kl_supports[0].displacement[2]: '1+t' is 1 at t = 0"),
             std::string::npos)
       << r.out;
   EXPECT_FALSE(fs::exists(d / "o" / "summary.json"));

@@ -69,7 +69,7 @@ TEST(KLSystem, ControlPointsJoinedToBodies) {
   int tree = 0;
   for (const auto& J : sys.joints()) tree += J.tree;
   EXPECT_EQ(tree, 2);
-  EXPECT_LT(sys.constraints(sys.q0()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT(sys.constraints(sys.q0(), 0.0).cwiseAbs().maxCoeff(), 1e-15);
 }
 
 TEST(KLSystem, LocatedErrors) {
@@ -79,10 +79,25 @@ TEST(KLSystem, LocatedErrors) {
           "axis: [0, 0, 1]}\n")),
       "m.yaml:11: joints[0].type: 'plate[3]' is a control point: it is attached (rigid, "
       "fixed or spherical, which coincide for a point), not revolute");
+  // A dynamic run starts from the reference configuration.
   EXPECT_EQ(compile_error(kl_model_text(
-                "kl_supports: [{shell: plate, edge: u0, displacement: [0, 0, \"t\"]}]\n")),
-            "m.yaml:10: kl_supports[0]: a prescribed displacement acts in static analyses only for "
-            "now (solver.analysis: static): the constraints of a dynamic run do not depend on t");
+                "kl_supports: [{shell: plate, edge: u0, displacement: [0, 0, \"0.5+t\"]}]\n")),
+            "m.yaml:10: kl_supports[0].displacement[2]: '0.5+t' is 0.5 at t = 0: a dynamic run "
+            "starts from the reference configuration, so a prescribed displacement starts at 0");
+  // A prescribed motion of what a symmetry plane holds (x on the edge u0, normal x).
+  EXPECT_EQ(
+      compile_error(kl_model_text("kl_supports:\n"
+                                  "  - {shell: plate, edge: u0, symmetry: [1, 0, 0]}\n"
+                                  "  - {shell: plate, edge: u0, displacement: [\"t\", 0, 0]}\n")),
+      "m.yaml:12: kl_supports[1]: row 0 of the prescribed motion depends on the other rows "
+      "of the model (it acts on what other supports or joints already hold); a prescribed "
+      "motion must act on free coordinates only");
+  // Fixed supports take the functions of a moving edge they hold (as in statics): nothing left.
+  EXPECT_EQ(
+      compile_error(kl_model_text("kl_supports:\n"
+                                  "  - {shell: plate, edge: u0, fixed: all}\n"
+                                  "  - {shell: plate, edge: u0, displacement: [0, 0, \"t\"]}\n")),
+      "m.yaml:12: kl_supports[1]: the support holds nothing");
   EXPECT_EQ(compile_error(
                 kl_model_text("kl_supports: [{shell: plate, edge: u0, fixed: [z], body: hub}]\n")),
             "m.yaml:10: kl_supports[0]: a Kirchhoff–Love support to a body holds all components, "

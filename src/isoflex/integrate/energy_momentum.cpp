@@ -218,7 +218,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     const VecX lambda = x.tail(m);
     VecX R(n + m);
     R.head(n) = r0 + dt * (Gm.transpose() * lambda);
-    const VecX phi = sys_.constraints(q1);
+    const VecX phi = sys_.constraints(q1, c.s->t + dt);
     for (int i = 0; i < m; ++i) R(n + i) = phi(sys_.selected_rows()[i]);
     if (J) {
       const SpMat K =
@@ -240,7 +240,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     const int mc = static_cast<int>(rows.size());
     VecX R(k + mc);
     R.head(k) = sys_.reduce(qm, r0);
-    const VecX phi = sys_.constraints(q1);
+    const VecX phi = sys_.constraints(q1, c.s->t + dt);
     for (int i = 0; i < mc; ++i) R(k + i) = constraint_scale_ * phi(rows[i]);
     if (J) {
       const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
@@ -295,7 +295,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   const int mc = static_cast<int>(con_rows.size());
   VecX R(kred + mc);
   R.head(kred) = P.transpose() * r0;
-  const VecX phi = sys_.constraints(q1);
+  const VecX phi = sys_.constraints(q1, c.s->t + dt);
   for (int i = 0; i < mc; ++i) R(kred + i) = constraint_scale_ * phi(con_rows[i]);
   if (J) {
     const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
@@ -406,7 +406,7 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
   out.total_energy = out.kinetic_energy + out.potential_energy;
   out.linear_momentum = sys_.linear_momentum(s.v);
   out.angular_momentum = sys_.angular_momentum(s.q, s.v);
-  out.constraint_violation = sys_.constraints(s.q).lpNorm<Eigen::Infinity>();
+  out.constraint_violation = sys_.constraints(s.q, s.t).lpNorm<Eigen::Infinity>();
   out.newton_iterations = st.iterations;
   out.residual = st.residual;
   for (int i = 0; i < sys_.node_count(); ++i) {

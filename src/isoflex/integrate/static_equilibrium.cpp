@@ -47,7 +47,7 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
   const VecX reactions = G.transpose() * lambda;
   out.r.resize(n + m);
   out.r.head(n) = f + reactions;
-  const VecX phi = sys.constraints(q);
+  const VecX phi = sys.constraints(q, t);
   for (int i = 0; i < m; ++i) out.r(n + i) = phi(sys.selected_rows()[i]);
   out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
   if (!with_tangent) return;

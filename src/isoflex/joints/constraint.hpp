@@ -7,8 +7,10 @@
 // and freedom blocks, update map), so that the spanning forest can remove its rows; a joint
 // instance's rows are a Constraint through `JointRows` (joint_rows.hpp). Any other Constraint
 // has no elimination: its rows stay in every formulation as loop-closing ("cut") rows, selected
-// for independence with the loop rows of the joints (IGA-thesis Alg. 5.1). Scleronomic: Φ does
-// not depend on t.
+// for independence with the loop rows of the joints (IGA-thesis Alg. 5.1). Rheonomic rows depend
+// on t through a prescribed right-hand side only, Φ(q_c) = d(t) (a prescribed displacement,
+// IGA-thesis (3.37)–(3.40)): the Jacobian and the Hessians stay those of Φ(q_c), so the null
+// spaces of the reduced formulations are the same, and the rows hold exactly at every time node.
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -26,6 +28,9 @@ class Constraint {
   virtual MatX jacobian(CRef q_c) const = 0;  // constraint_count() × q_c.size()
   // H += Σ λ_i ∂²Φ_i/∂q_c² (constant: Φ is at most quadratic).
   virtual void add_constraint_hessian(CRef lambda, MatX& H) const = 0;
+  // d(t) (constraint_count() entries), asked only when rheonomic().
+  virtual bool rheonomic() const { return false; }
+  virtual VecX prescribed(double /*t*/) const { return VecX::Zero(constraint_count()); }
 };
 
 }  // namespace isoflex::joints

@@ -1,10 +1,12 @@
 #pragma once
-// Homogeneous linear rows C (q_c − Q_c) = 0 over the stacked coordinates of some nodes: the
+// Linear rows C (q_c − Q_c) = d(t) over the stacked coordinates of some nodes: the
 // Kirchhoff–Love supports that are not rigid attachments (single components, symmetry edges,
-// the slope rows of a clamp; system/kl_boundary_conditions.hpp) in a dynamic run. Jacobian C,
-// Hessian 0: linear rows hold exactly at every time node of the midpoint rule, and their forces
-// Cᵀλ do no work on the motions they allow, so energy stays conserved (momentum is not: a support
-// holds the body).
+// the slope rows of a clamp, prescribed displacements; system/kl_boundary_conditions.hpp) in a
+// dynamic run. Jacobian C, Hessian 0: linear rows hold exactly at every time node of the midpoint
+// rule. With d = 0 their forces Cᵀλ do no work on the motions they allow, so energy stays
+// conserved (momentum is not: a support holds the body); a prescribed d(t) does the work
+// −λᵀ(d(tₙ₊₁) − d(tₙ)) in a step.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,20 +16,25 @@ namespace isoflex::joints {
 
 class LinearRows final : public Constraint {
  public:
-  // C: rows × Q.size(); Q the stacked reference coordinates of `nodes`. Throws
-  // std::invalid_argument for inconsistent sizes or non-finite entries.
-  LinearRows(std::vector<int> nodes, MatX C, VecX Q);
+  // C: rows × Q.size(); Q the stacked reference coordinates of `nodes`; d: the right-hand side
+  // (rows entries), empty for 0. Throws std::invalid_argument for inconsistent sizes or
+  // non-finite entries.
+  LinearRows(std::vector<int> nodes, MatX C, VecX Q, std::function<VecX(double)> d = {});
 
   const std::vector<int>& nodes() const override { return nodes_; }
   int constraint_count() const override { return static_cast<int>(C_.rows()); }
   VecX constraints(CRef q_c) const override { return C_ * (q_c - Q_); }
   MatX jacobian(CRef) const override { return C_; }
   void add_constraint_hessian(CRef, MatX&) const override {}
+  bool rheonomic() const override { return static_cast<bool>(d_); }
+  // Throws std::runtime_error when d(t) has the wrong size or is not finite.
+  VecX prescribed(double t) const override;
 
  private:
   std::vector<int> nodes_;
   MatX C_;
   VecX Q_;
+  std::function<VecX(double)> d_;
 };
 
 }  // namespace isoflex::joints

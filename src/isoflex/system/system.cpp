@@ -290,7 +290,7 @@ void System::for_each_constraint(F&& f) const {
   for (const auto& C : nary_) f(*C.constraint, C.row_offset);
 }
 
-VecX System::constraints(const VecX& q) const {
+VecX System::constraints(const VecX& q, double t) const {
   VecX c(m_all_);
   for (int i = 0; i < node_count(); ++i) {
     const Node& nd = nodes_[i];
@@ -298,6 +298,7 @@ VecX System::constraints(const VecX& q) const {
   }
   for_each_constraint([&](const joints::Constraint& C, int row) {
     c.segment(row, C.constraint_count()) = C.constraints(stacked(q, C.nodes()));
+    if (C.rheonomic()) c.segment(row, C.constraint_count()) -= C.prescribed(t);
   });
   return c;
 }

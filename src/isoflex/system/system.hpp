@@ -65,7 +65,8 @@ struct ConstraintInstance {
   std::string name;
   std::string type;
   std::shared_ptr<const joints::Constraint> constraint;
-  int row_offset = 0;  // first row in the all-rows layout
+  int row_offset = 0;    // first row in the all-rows layout
+  model::Source source;  // where the model states it
 };
 
 // A beam of the model: its nodes along the polyline and its elements (owned by the system).
@@ -158,8 +159,11 @@ class System {
   // ∂f/∂q = ∇²V − ∂f_ext/∂q in the same fixed pattern; load_norm (if not null) ‖f_ext(q, t)‖∞.
   VecX static_force(const VecX& q, double t, SpMat* K, double* load_norm = nullptr) const;
 
-  // Constraints, all rows.
-  VecX constraints(const VecX& q) const;
+  // Constraints at time t, all rows: Φ(q) − d(t), d(t) the right-hand sides of the rheonomic
+  // rows (joints/constraint.hpp) and 0 elsewhere.
+  VecX constraints(const VecX& q, double t) const;
+  // True when some row depends on t.
+  bool rheonomic() const { return rheonomic_; }
   // Jacobian of the selected rows (m_selected × n) or of the given rows.
   SpMat jacobian(const VecX& q) const;
   SpMat jacobian_rows(const VecX& q, const std::vector<int>& rows) const;
@@ -306,6 +310,7 @@ class System {
   std::vector<int> node_beam_;  // beam index (shells: after the beams) of a node, −1 for a body
   int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
   double v0_error_ = 0.0;
+  bool rheonomic_ = false;  // some row depends on t
   VecX q0_, v0_;
   SpMat M_;
   VecX ground_;

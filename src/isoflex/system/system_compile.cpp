@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <deque>
+#include <functional>
+#include <limits>
 #include <map>
 
 #include "isoflex/elements/beam_mesh.hpp"
@@ -16,6 +18,7 @@
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
 #include "isoflex/loads/patch_edge.hpp"
+#include "isoflex/loads/time_function.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/system/kl_model.hpp"
@@ -488,16 +491,13 @@ void System::add_kl_supports(Build& build) {
     const KLPatchInstance& P = kl_patches_.front();  // the reader checked the shell's name
     const bool attachment = S.components[0] && S.components[1] && S.components[2] &&
                             (S.kind == K::fixed || S.kind == K::clamped);
-    if (!attachment && S.body.empty() && S.kind != K::displacement) {
+    if (!attachment && S.body.empty()) {
       add_kl_support_rows(model, S, what, P);
       continue;
     }
     if (!attachment)
       fail(S.source, what,
-           S.body.empty()
-               ? "a prescribed displacement acts in static analyses only for now (solver.analysis: "
-                 "static): the constraints of a dynamic run do not depend on t"
-               : "a Kirchhoff–Love support to a body holds all components, fixed or clamped");
+           "a Kirchhoff–Love support to a body holds all components, fixed or clamped");
     const geometry::NurbsSurface& g = P.element->patch().reference();
     std::vector<int> cps = S.control_points;
     if (!S.edge.empty())
@@ -518,23 +518,44 @@ void System::add_kl_supports(Build& build) {
 }
 
 // A support to the ground that is not a rigid attachment, in a dynamic run: its conditions
-// (system/kl_boundary_conditions.hpp, as in statics) as homogeneous linear rows over the control
-// points they touch, an n-ary constraint (joints/linear_rows.hpp); an eliminated component is the
-// row e_k·(x_A − X_A) = 0.
+// (system/kl_boundary_conditions.hpp, as in statics) as linear rows over the control points they
+// touch, an n-ary constraint (joints/linear_rows.hpp); an eliminated component is the row
+// e_k·(x_A − X_A) = ū(t). A prescribed displacement makes the rows rheonomic, C (x − X) = d(t)
+// (IGA-thesis (3.37)–(3.40)); the run starts from the reference configuration, so d(0) = 0.
 void System::add_kl_support_rows(const model::Model& model, const model::KLSupport& S,
                                  const std::string& what, const KLPatchInstance& P) {
-  const LinearConstraints lc =
-      kl_boundary_conditions(model, P.element->patch().reference(),
-                             [&](const model::KLSupport& other) { return &other == &S; })
-          .constraints();
-  // Rows over patch dofs: the eliminated ones, then C's.
+  using K = model::KLSupportKind;
+  const geometry::NurbsSurface& g = P.element->patch().reference();
+  LinearConstraints lc = kl_boundary_conditions(model, g, [&](const model::KLSupport& o) {
+                           return &o == &S;
+                         }).constraints();
+  // Rows over patch dofs: the eliminated ones, then C's from row `skip` on.
+  int skip = 0;
+  if (S.kind == K::displacement) {
+    // As in statics (kl_boundary_conditions.hpp, (4.26)): the functions of the edge whose
+    // component another support to the ground fixes, or an earlier prescribed edge owns, are
+    // dropped, so that a corner is not imposed twice. The other supports' own conditions (their
+    // eliminations, the slope rows of a clamp, the earlier edges' rows: the first `skip` rows)
+    // are theirs to impose.
+    auto fixing = [&](const model::KLSupport& o) {
+      return o.body.empty() &&
+             (o.kind == K::fixed || o.kind == K::clamped || (o.kind == K::displacement && &o < &S));
+    };
+    skip = kl_boundary_conditions(model, g, fixing).constraints().multipliers();
+    lc = kl_boundary_conditions(model, g, [&](const model::KLSupport& o) {
+           return &o == &S || fixing(o);
+         }).constraints();
+    lc.eliminated.clear();
+    lc.eliminated_value.clear();
+  }
   std::vector<std::vector<std::pair<int, double>>> rows;
   for (int i : lc.eliminated) rows.push_back({{i, 1.0}});
   const int first = static_cast<int>(rows.size());
-  rows.resize(rows.size() + static_cast<std::size_t>(lc.multipliers()));
+  rows.resize(rows.size() + static_cast<std::size_t>(lc.multipliers() - skip));
   for (int j = 0; j < lc.C.outerSize(); ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(lc.C, j); it; ++it)
-      rows[static_cast<std::size_t>(first + it.row())].push_back({j, it.value()});
+      if (it.row() >= skip)
+        rows[static_cast<std::size_t>(first + it.row() - skip)].push_back({j, it.value()});
   // The control points touched, in patch order, and C over their stacked coordinates.
   std::map<int, int> local;  // control point → position
   for (const auto& r : rows)
@@ -550,9 +571,33 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
     for (const auto& [dof, c] : rows[r])
       C(static_cast<Eigen::Index>(r), 3 * local[dof / 3] + dof % 3) += c;
   if (rows.empty()) fail(S.source, what, "the support holds nothing");
-  nary_.push_back({what, "kl_support_rows",
-                   std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
-                   0});
+  std::function<VecX(double)> d;
+  const bool moving = lc.rhs || std::any_of(lc.eliminated_value.begin(), lc.eliminated_value.end(),
+                                            [](const auto& f) { return static_cast<bool>(f); });
+  if (moving)
+    d = [lc, m = static_cast<int>(rows.size())](double t) {
+      VecX out = VecX::Zero(m);
+      const int e = static_cast<int>(lc.eliminated.size());
+      for (int i = 0; i < e; ++i)
+        if (lc.eliminated_value[static_cast<std::size_t>(i)])
+          out(i) = lc.eliminated_value[static_cast<std::size_t>(i)](t);
+      if (lc.rhs) out.tail(m - e) = lc.rhs(t).tail(m - e);
+      return out;
+    };
+  auto constraint =
+      std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes), std::move(d));
+  if (moving) {
+    for (int k = 0; k < 3; ++k) {
+      const double u0 = loads::TimeFunction(S.displacement[static_cast<std::size_t>(k)])(0.0);
+      if (u0 != 0.0)
+        fail(S.source, what + fmt::format(".displacement[{}]", k),
+             fmt::format("'{}' is {:.6g} at t = 0: a dynamic run starts from the reference "
+                         "configuration, so a prescribed displacement starts at 0",
+                         S.displacement[static_cast<std::size_t>(k)], u0));
+    }
+    rheonomic_ = true;
+  }
+  nary_.push_back({what, "kl_support_rows", std::move(constraint), 0, S.source});
 }
 
 // Spherical joints at points of a Kirchhoff–Love patch: the patch's material point Σ R_A(ξ, η) φ_A
@@ -596,7 +641,7 @@ void System::add_kl_surface_joints(Build& build) {
     }
     nary_.push_back({what, "spherical_at_shell_point",
                      std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
-                     0});
+                     0, J.source});
   }
 }
 
@@ -771,7 +816,7 @@ void System::add_joint_instances(Build& build) {
 void System::check_assembled(const Build& build) const {
   const model::Model& model = build.model;
   const std::size_t n_model_joints = model.joints.size();
-  const VecX c = constraints(q0_);
+  const VecX c = constraints(q0_, 0.0);
   for (const auto& J : joints_) {
     const int rows = J.joint->constraint_count();
     if (rows == 0) continue;  // nothing to hold (and maxCoeff of nothing asserts)
@@ -814,18 +859,41 @@ void System::select_loop_rows() {
       }
     }
   }
+  // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
+  // of d the rank test cannot see, so a moving row must be independent.
+  for (int r : redundant_rows_) {
+    const int c = nary_of_row(r);
+    if (c < 0 || !nary_[static_cast<std::size_t>(c)].constraint->rheonomic()) continue;
+    const ConstraintInstance& C = nary_[static_cast<std::size_t>(c)];
+    fail(C.source, C.name,
+         fmt::format("row {} of the prescribed motion depends on the other rows of the model (it "
+                     "acts on what other supports or joints already hold); a prescribed motion "
+                     "must act on free coordinates only",
+                     r - C.row_offset));
+  }
 }
 
 // Initial velocities: the admissible twist closest (least squares in twist components) to the
-// given body velocities, within the null space of the loop-closing rows.
+// given body velocities, within the null space of the loop-closing rows — or, with rheonomic
+// rows, within the affine space G_cut P_tree ν = ḋ(0), the rate of their right-hand sides.
 void System::set_initial_velocities(const model::Model& model) {
   VecX t_given = VecX::Zero(6 * node_count());  // beam and shell nodes start at rest
   for (int i = 0; i < static_cast<int>(model.bodies.size()); ++i) {
     t_given.segment<3>(6 * i) = model.bodies[i].velocity;
     t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
   }
+  VecX rate;  // ḋ(0) of the cut rows, by a one-sided second-order difference (t ≥ 0 only)
+  if (rheonomic_ && model.solver.analysis == model::Analysis::dynamic) {
+    const double h = 1e-3 * model.solver.dt;
+    const VecX dc =
+        -(-3.0 * constraints(q0_, 0.0) + 4.0 * constraints(q0_, h) - constraints(q0_, 2.0 * h)) /
+        (2.0 * h);
+    rate.resize(cut_rank());
+    for (int i = 0; i < cut_rank(); ++i) rate(i) = dc(cut_rows_[static_cast<std::size_t>(i)]);
+    if (rate.lpNorm<Eigen::Infinity>() == 0.0) rate.resize(0);
+  }
   VecX nu0 = VecX::Zero(k_);
-  if (t_given.norm() > 0) {
+  if (t_given.norm() > 0 || rate.size() > 0) {
     if (cut_rows_.empty()) {
       // min ½‖w − t‖² subject to (I − 𝒜) w = ℬ ν, as the sparse KKT system
       // [I (I−𝒜)ᵀ 0; (I−𝒜) 0 −ℬ; 0 −ℬᵀ 0] [w; μ; ν] = [t; 0; 0] (linear in node_count()).
@@ -852,10 +920,13 @@ void System::set_initial_velocities(const model::Model& model) {
       v0_error_ = (z.head(N6) - t_given).norm() / std::max(1.0, t_given.norm());
     } else {
       const MatX E = MatX(twist_map(q0_));
+      const MatX Gc = MatX(jacobian_rows(q0_, cut_rows_) * tree_null_space(q0_));
       MatX W, U;
-      solve::qr_range_and_null_space(MatX(jacobian_rows(q0_, cut_rows_) * tree_null_space(q0_)), W,
-                                     U);
-      nu0 = U * solve::least_squares(E * U, t_given);
+      solve::qr_range_and_null_space(Gc, W, U);
+      VecX nu_p = VecX::Zero(k_);  // the particular solution in the range W
+      if (rate.size() > 0) nu_p = W * (Gc * W).partialPivLu().solve(rate);
+      nu0 = nu_p;
+      if (U.cols() > 0) nu0 += U * solve::least_squares(E * U, t_given - E * nu_p);
       v0_error_ = (E * nu0 - t_given).norm() / std::max(1.0, t_given.norm());
     }
   }
