@@ -66,11 +66,11 @@
 #include "isoflex/elements/kl_shell_patch.hpp"
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_static_problem.hpp"
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/system/kl_boundary_conditions.hpp"
+#include "support/kl_static_problem.hpp"
 
 namespace {
 
@@ -221,7 +221,7 @@ system::KLBoundaryConditions roof_supports(const geometry::NurbsSurface& s) {
   return bc;
 }
 
-integrate::PatchLoads roof_load(const geometry::NurbsSurface& s, double factor) {
+loads::PatchLoads roof_load(const geometry::NurbsSurface& s, double factor) {
   return {std::make_shared<loads::AreaForce>(s, Vec3(-factor * kWeight * up()))};
 }
 
@@ -407,7 +407,7 @@ SolveRun run_static(int p, int N, KLKinematics kin, const Options& o) {
   // Linear kinematics: the roof benchmark itself, one load step of the plain self-weight.
   const bool linear = kin == KLKinematics::linear;
   integrate::StaticProblem pb =
-      integrate::kl_static_problem(patch, roof_load(s, linear ? 1.0 : o.load_factor), kin);
+      test::kl_static_problem(patch, roof_load(s, linear ? 1.0 : o.load_factor), kin);
   // Wrap the provider: CPU time of the patch evaluation (residual, tangent, loads) and counts.
   auto inner = pb.evaluate;
   pb.evaluate = [&r, inner](const VecX& x, double t, bool with_tangent,

@@ -1,5 +1,5 @@
 // The static solver on a Kirchhoff–Love shell patch (integrate/static_newton.hpp on
-// integrate/kl_static_problem.hpp): the clamped square plate under uniform pressure against
+// support/kl_static_problem.hpp): the clamped square plate under uniform pressure against
 // Kirchhoff plate theory, elimination vs multipliers, linear vs nonlinear kinematics at a small
 // load. Built as its own executable (test_kl_static) only when elements/kl_shell_patch.cpp exists
 // (tests/CMakeLists.txt).
@@ -11,12 +11,13 @@
 
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
-#include "isoflex/integrate/kl_static_problem.hpp"
 #include "isoflex/system/kl_boundary_conditions.hpp"
 #include "support/geometry.hpp"
+#include "support/kl_static_problem.hpp"
 
 using namespace isoflex;
 using namespace isoflex::integrate;
+using namespace isoflex::loads;
 using loads::PatchEdge;
 using system::kCompX;
 using system::kCompXYZ;
@@ -56,7 +57,8 @@ PatchLoads pressure(const geometry::NurbsSurface& s, double p) {
 StaticNewtonSolver solver_of(const elements::KLShellPatch& patch, PatchLoads loads,
                              const KLBoundaryConditions& bc, const StaticSettings& set,
                              elements::KLKinematics kin = elements::KLKinematics::nonlinear) {
-  return StaticNewtonSolver(kl_static_problem(patch, std::move(loads), kin), bc.constraints(), set);
+  return StaticNewtonSolver(test::kl_static_problem(patch, std::move(loads), kin), bc.constraints(),
+                            set);
 }
 
 }  // namespace

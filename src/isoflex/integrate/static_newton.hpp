@@ -1,9 +1,9 @@
 #pragma once
 // Static equilibrium by Newton's method with load stepping, for any problem given as a callable
 // (x, t) → (r, K): r(x, t) = f_int(x) − f_ext(x, t) and K = ∂r/∂x (IGA-thesis §6.2.1 with the
-// mass terms dropped: (6.3)–(6.4) per load step). The KL shell patch is one provider
-// (kl_static_problem.hpp) and every System (static_equilibrium.hpp); tests use small nonlinear
-// spring problems.
+// mass terms dropped: (6.3)–(6.4) per load step). Every System is one provider
+// (static_equilibrium.hpp); tests use small nonlinear spring problems and a bare KL patch
+// (tests/support/kl_static_problem.hpp).
 //
 // Boundary conditions enter as LinearConstraints (the output of KLBoundaryConditions):
 //   • eliminated dofs (IGA-thesis §4.2.3): x_i = X_i + ū_i(t), removed from the unknowns;

@@ -1,11 +1,14 @@
-#include "isoflex/integrate/kl_static_problem.hpp"
+#include "support/kl_static_problem.hpp"
 
 #include <fmt/format.h>
 
 #include <stdexcept>
 #include <utility>
 
-namespace isoflex::integrate {
+namespace isoflex::test {
+
+using integrate::ResidualEvaluation;
+using integrate::StaticProblem;
 
 StaticProblem kl_static_problem(const elements::KLShellPatch& patch, PatchLoads loads,
                                 elements::KLKinematics kinematics) {
@@ -42,4 +45,4 @@ StaticProblem kl_static_problem(const elements::KLShellPatch& patch, PatchLoads 
   return pb;
 }
 
-}  // namespace isoflex::integrate
+}  // namespace isoflex::test

@@ -1,7 +1,8 @@
 #pragma once
 // One bare Kirchhoff–Love patch (elements::KLShellPatch) under patch loads as a StaticProblem
-// (static_newton.hpp), without a System: for the patch's own unit tests and the assembly bench.
-// A model's static analysis goes through System and integrate::StaticEquilibrium instead, whose
+// (integrate/static_newton.hpp), without a System: a fixture of the patch's own unit tests and
+// of the assembly bench (bench/kl_shell_bench.cpp), not part of the library — every model goes
+// through System and integrate::StaticEquilibrium, whose
 // residual is the same sum (System::static_force):
 //
 //   r(x, t) = f_int(x) − Σ_L λ_L(t) f_L(x) = 0,   K = ∂f_int/∂x − Σ_L λ_L(t) ∂f_L/∂x,
@@ -15,13 +16,13 @@
 #include "isoflex/integrate/static_newton.hpp"
 #include "isoflex/loads/kl_patch_loads.hpp"
 
-namespace isoflex::integrate {
+namespace isoflex::test {
 
 using loads::PatchLoads;
 
 // The provider: (x, t) → (r, K, ‖f_ext‖∞). Throws std::invalid_argument if a load does not
 // have the patch's number of dofs.
-StaticProblem kl_static_problem(const elements::KLShellPatch& patch, PatchLoads loads,
-                                elements::KLKinematics kinematics);
+integrate::StaticProblem kl_static_problem(const elements::KLShellPatch& patch, PatchLoads loads,
+                                           elements::KLKinematics kinematics);
 
-}  // namespace isoflex::integrate
+}  // namespace isoflex::test
