@@ -3,10 +3,12 @@
 //
 // While an InterruptHandlers object lives, the two signals only record which of them arrived
 // (the handler is async-signal-safe: it stores the signal number and returns); the run loop asks
-// throw_if_interrupted() after each step, finishes its outputs and exits with 128 + the signal. The
-// handlers are installed with SA_RESETHAND, so a second signal of the same kind ends the process
-// at once (a run stuck in a long Newton step can still be stopped). A signal that was ignored when
-// the process started (`nohup`, background jobs of a non-interactive shell) stays ignored.
+// throw_if_interrupted() after each step, finishes its outputs and exits with 128 + the signal. A
+// second signal at least a second after the first ends the process at once (a run stuck in a long
+// Newton step can still be stopped); one within the second is taken for a duplicate of the first
+// (a process-group kill that a supervisor such as `timeout` also forwards) and ignored. A signal
+// that was ignored when the process started (`nohup`, background jobs of a non-interactive shell)
+// stays ignored.
 #include <signal.h>
 
 #include <string>
