@@ -289,8 +289,9 @@ TEST(ModelReader, UnknownKey) {
             "orientation, velocity, angular_velocity, shape)");
   EXPECT_EQ(
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
-      "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, dt, t_end, "
-      "residual_tolerance, increment_tolerance, max_iterations, max_subdivisions, linear)");
+      "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
+      "rho_infinity, scaling, dt, t_end, residual_tolerance, increment_tolerance, max_iterations, "
+      "max_subdivisions, linear)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -449,6 +450,30 @@ TEST(ModelReader, SolverAnalysis) {
       model::Analysis::dynamic);
   EXPECT_EQ(error_of(with_bodies({"solver:", "  analysis: transient"})),
             "m.yaml:7: solver.analysis: unknown analysis \"transient\" (valid: static, dynamic)");
+}
+
+// The time integrator (integrate/time_integrator.hpp) and its keys.
+TEST(ModelReader, SolverIntegrator) {
+  const auto m = read_model_string(
+      with_bodies({"solver: {integrator: generalized_alpha, rho_infinity: 0.5, scaling: false}"}),
+      "m.yaml");
+  EXPECT_EQ(m.solver.integrator, model::Integrator::generalized_alpha);
+  EXPECT_EQ(m.solver.rho_infinity, 0.5);
+  EXPECT_FALSE(m.solver.scaling);
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.integrator,
+            model::Integrator::energy_momentum);
+  for (const char* name : {"bdf1", "bdf2", "energy_momentum"})
+    EXPECT_EQ(model::to_string(*model::integrator_from_string(name)), std::string(name));
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  integrator: hht"})),
+            "m.yaml:7: solver.integrator: unknown integrator \"hht\" (valid: energy_momentum, "
+            "generalized_alpha, bdf1, bdf2)");
+  // Not clamped: a value outside [0, 1] names the key.
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  rho_infinity: 1.2"})),
+            "m.yaml:7: solver.rho_infinity: 1.2 is outside [0, 1] (the spectral radius of "
+            "generalized-α at infinite frequency)");
+  EXPECT_EQ(
+      read_model_string(with_bodies({"solver: {rho_infinity: 0}"}), "m.yaml").solver.rho_infinity,
+      0.0);
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

@@ -233,9 +233,17 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
   fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
   if (l->model.solver.analysis == model::Analysis::statics)
     print_static_check(sys, l->model.solver, out);
-  else
+  else if (const model::Solver& so = l->model.solver;
+           so.integrator == model::Integrator::energy_momentum)
     fmt::print(out, "unknowns         constrained {}, nullspace {}, reparametrized {}\n",
                sys.n() + sys.m_selected(), sys.n(), sys.k());
+  else  // a DAE scheme: (q, λ) with every selected row (integrate/dae_integrator.hpp)
+    fmt::print(out, "unknowns         {} ({}{}, {})\n", sys.n() + sys.m_selected(),
+               model::to_string(so.integrator),
+               so.integrator == model::Integrator::generalized_alpha
+                   ? fmt::format(", rho_infinity {:g}", so.rho_infinity)
+                   : std::string(),
+               so.scaling ? "scaled" : "not scaled");
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
                "warning          initial velocities violate the joints; projected (relative change "
@@ -269,13 +277,16 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
   // statics); made inside the run's try block, so that a numerical failure there ends the run
   // like a failing step.
-  std::optional<integrate::EnergyMomentumIntegrator> integ;
+  std::unique_ptr<integrate::TimeIntegrator> integ;
   // From here on SIGINT and SIGTERM end the run after the step in progress (app/interrupt.hpp).
   const InterruptHandlers interrupts;
 
   io::RunSummary sum;
   sum.model = o.model_file;
-  sum.formulation = statics ? "static" : model::to_string(m.solver.formulation);
+  sum.formulation = statics ? "static"
+                    : m.solver.integrator == model::Integrator::energy_momentum
+                        ? model::to_string(m.solver.formulation)
+                        : model::to_string(m.solver.integrator);
   sum.n_coordinates = sys.n();
   sum.n_constraints = sys.m_selected() +
                       static_cast<int>(sys.linear_constraints().eliminated.size()) +
@@ -337,7 +348,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
         record({st.iterations, st.residual, st.cuts + 1});
       });
     } else {
-      integ.emplace(sys, m.solver);
+      integ = integrate::make_time_integrator(sys, m.solver);
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
       for (int i = 0; i < steps; ++i) record(integ->step(state));

@@ -21,28 +21,13 @@
 #include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/integrate/reduced_newton_matrix.hpp"
 #include "isoflex/integrate/snapshot.hpp"
+#include "isoflex/integrate/time_integrator.hpp"
 #include "isoflex/model/model.hpp"
 #include "isoflex/solve/normal_equations.hpp"
 #include "isoflex/system/system.hpp"
 #include "isoflex/system/tree_newton_solver.hpp"
 
 namespace isoflex::integrate {
-
-struct State {
-  int step = 0;
-  double t = 0.0;
-  VecX q, v;
-  // Converged unknowns of the last step (empty at the start) and its length: the Newton
-  // predictor extrapolates with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ Δt/Δt_last, λ ≈ λₙ).
-  VecX last_unknowns;
-  double last_dt = 0.0;
-};
-
-struct StepStats {
-  int iterations = 0;
-  double residual = 0.0;  // ‖R‖∞ at the last evaluation
-  int substeps = 1;       // > 1: the step was subdivided (model::Solver::max_subdivisions)
-};
 
 // How the reduced Newton systems (null space, reparametrized) are solved: by forming 𝖯 and the
 // reduced matrix (dense-ish for chains: O(N²) entries), or in the equivalent sparse bordered form
@@ -56,7 +41,7 @@ struct StepStats {
 // chains), else blocks (reparametrized, no loop-closing rows), else explicit.
 enum class ReducedSolve { automatic, explicit_null_space, bordered, tree, blocks };
 
-class EnergyMomentumIntegrator {
+class EnergyMomentumIntegrator final : public TimeIntegrator {
  public:
   EnergyMomentumIntegrator(const system::System& sys, const model::Solver& settings,
                            ReducedSolve how = ReducedSolve::automatic);
@@ -65,11 +50,12 @@ class EnergyMomentumIntegrator {
   bool block_assembly() const { return blocks_.has_value(); }
 
   model::Formulation formulation() const { return settings_.formulation; }
+  std::string name() const override { return model::to_string(settings_.formulation); }
   // Size of the linear system solved per Newton iteration.
-  int unknowns() const;
-  State initial_state() const;
+  int unknowns() const override;
+  State initial_state() const override;
   // Advances s by one step; throws NewtonFailure when Newton does not converge.
-  StepStats step(State& s) const;
+  StepStats step(State& s) const override;
 
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
   // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the

@@ -162,8 +162,9 @@ class Reader : YamlFields {
     if (n.IsNull()) return;
     expect_map(n, "solver");
     check_keys(n, "solver",
-               {"analysis", "formulation", "dt", "t_end", "residual_tolerance",
-                "increment_tolerance", "max_iterations", "max_subdivisions", "linear"});
+               {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
+                "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
+                "linear"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -179,6 +180,24 @@ class Reader : YamlFields {
             "unknown formulation \"" + name + "\" (valid: constrained, nullspace, reparametrized)");
       s.formulation = *f;
     }
+    if (const auto v = n["integrator"]) {
+      const std::string name = string(v, "solver.integrator");
+      const auto i = model::integrator_from_string(name);
+      if (!i)
+        fail(v, "solver.integrator",
+             "unknown integrator \"" + name +
+                 "\" (valid: energy_momentum, generalized_alpha, bdf1, bdf2)");
+      s.integrator = *i;
+    }
+    if (const auto v = n["rho_infinity"]) {
+      s.rho_infinity = number(v, "solver.rho_infinity");
+      if (s.rho_infinity < 0.0 || s.rho_infinity > 1.0)
+        fail(v, "solver.rho_infinity",
+             fmt::format("{} is outside [0, 1] (the spectral radius of generalized-α at infinite "
+                         "frequency)",
+                         s.rho_infinity));
+    }
+    if (const auto v = n["scaling"]) s.scaling = boolean(v, "solver.scaling");
     if (const auto v = n["dt"]) s.dt = positive(v, "solver.dt");
     if (const auto v = n["t_end"]) s.t_end = positive(v, "solver.t_end");
     if (const auto v = n["residual_tolerance"])

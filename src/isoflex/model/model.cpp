@@ -54,4 +54,25 @@ std::optional<Formulation> formulation_from_string(const std::string& s) {
   return std::nullopt;
 }
 
+const char* to_string(Integrator i) {
+  switch (i) {
+    case Integrator::energy_momentum:
+      return "energy_momentum";
+    case Integrator::generalized_alpha:
+      return "generalized_alpha";
+    case Integrator::bdf1:
+      return "bdf1";
+    case Integrator::bdf2:
+      return "bdf2";
+  }
+  return "?";
+}
+
+std::optional<Integrator> integrator_from_string(const std::string& s) {
+  for (const Integrator i : {Integrator::energy_momentum, Integrator::generalized_alpha,
+                             Integrator::bdf1, Integrator::bdf2})
+    if (s == to_string(i)) return i;
+  return std::nullopt;
+}
+
 }  // namespace isoflex::model

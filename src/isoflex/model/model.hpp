@@ -313,6 +313,12 @@ struct KLLoad {
 
 enum class Formulation { constrained, nullspace, reparametrized };
 
+// The time integrator of a dynamic run (integrate/time_integrator.hpp): the energy–momentum
+// schemes (DNSM-III; `formulation` picks one of three) or the index-3 DAE schemes of IGA-thesis
+// ch. 2 on the embedded coordinates with multipliers — generalized-α (Alg. 2.1), BDF-1 (2.20),
+// BDF-2 (2.21).
+enum class Integrator { energy_momentum, generalized_alpha, bdf1, bdf2 };
+
 // What `isoflex run` computes: a motion in time, or static equilibrium under a load parameter
 // t ∈ [0, t_end] (`run --static` overrides the model).
 enum class Analysis { dynamic, statics };
@@ -320,6 +326,9 @@ enum class Analysis { dynamic, statics };
 struct Solver {
   Analysis analysis = Analysis::dynamic;
   Formulation formulation = Formulation::reparametrized;
+  Integrator integrator = Integrator::energy_momentum;
+  double rho_infinity = 0.8;  // generalized-α: spectral radius at infinite frequency, ρ∞ ∈ [0, 1]
+  bool scaling = true;        // DAE schemes: scaled iteration matrix (IGA-thesis §2.2.4)
   double dt = 1e-2;
   double t_end = 1.0;
   double residual_tolerance = 1e-16;  // ‖R‖∞ relative to max(1, (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞)
@@ -363,6 +372,8 @@ const char* to_string(JointType t);
 std::optional<JointType> joint_type_from_string(const std::string& s);
 const char* to_string(Formulation f);
 std::optional<Formulation> formulation_from_string(const std::string& s);
+const char* to_string(Integrator i);
+std::optional<Integrator> integrator_from_string(const std::string& s);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
 

@@ -1,0 +1,58 @@
+#pragma once
+// The time-integrator contract of a dynamic run: a state, one step at a time, against `System`
+// only. Two families implement it — the energy–momentum schemes of DNSM-III
+// (energy_momentum.hpp, three formulations) and the index-3 DAE schemes of IGA-thesis ch. 2
+// (dae_integrator.hpp: generalized-α, BDF-1, BDF-2) — chosen by `solver.integrator`. Both run the
+// one Newton loop (newton_loop.hpp) and the one subdivision of a failing step
+// (step_subdivision.hpp).
+#include <memory>
+#include <string>
+
+#include "isoflex/math/types.hpp"
+#include "isoflex/model/model.hpp"
+
+namespace isoflex::system {
+class System;
+}
+
+namespace isoflex::integrate {
+
+struct State {
+  int step = 0;
+  double t = 0.0;
+  VecX q, v;
+  // Energy–momentum: the converged unknowns of the last step (empty at the start) and its
+  // length; the Newton predictor extrapolates with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ Δt/Δt_last,
+  // λ ≈ λₙ).
+  VecX last_unknowns;
+  double last_dt = 0.0;
+  // DAE schemes (empty until their first step): q̈ₙ, the auxiliary acceleration aₙ of
+  // generalized-α (IGA-thesis (2.23)), the multipliers λₙ of the selected rows, and qₙ₋₁, vₙ₋₁
+  // for BDF-2.
+  VecX a, aux, lambda, q_prev, v_prev;
+};
+
+struct StepStats {
+  int iterations = 0;
+  double residual = 0.0;  // ‖R‖∞ at the last evaluation
+  int substeps = 1;       // > 1: the step was subdivided (model::Solver::max_subdivisions)
+};
+
+class TimeIntegrator {
+ public:
+  virtual ~TimeIntegrator() = default;
+  // What the run reports: the formulation or the scheme ("reparametrized", "generalized_alpha").
+  virtual std::string name() const = 0;
+  // Size of the linear system solved per Newton iteration.
+  virtual int unknowns() const = 0;
+  virtual State initial_state() const = 0;
+  // Advances s by one step of solver.dt (subdivided on failure as solver.max_subdivisions
+  // allows); throws NewtonFailure and leaves s unchanged when it cannot.
+  virtual StepStats step(State& s) const = 0;
+};
+
+// The integrator `settings.integrator` names, for sys (which must outlive it).
+std::unique_ptr<TimeIntegrator> make_time_integrator(const system::System& sys,
+                                                     const model::Solver& settings);
+
+}  // namespace isoflex::integrate
