@@ -12,6 +12,7 @@
 
 #include "isoflex/integrate/dae_integrator.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/io/model_reader.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "support/models.hpp"
 
@@ -40,10 +41,12 @@ integrate::State run(const model::Model& m, int steps) {
   return s;
 }
 
-// log₂ of the ratios of successive errors against `ref` for steps T/k, T/2k, T/4k.
-std::vector<double> orders(I scheme, double T, int k, double rho, bool multipliers) {
+// log₂ of the ratios of successive errors in q (or λ) at T for steps T/k, T/2k, T/4k, against
+// the run with steps T/(64k); `model(dt)` gives the model.
+template <class Model>
+std::vector<double> orders_of(Model&& model, double T, int k, bool multipliers) {
   auto at = [&](int steps) {
-    const integrate::State s = run(top(scheme, T / steps, rho), steps);
+    const integrate::State s = run(model(T / steps), steps);
     return multipliers ? s.lambda : s.q;
   };
   const VecX ref = at(64 * k);
@@ -51,6 +54,38 @@ std::vector<double> orders(I scheme, double T, int k, double rho, bool multiplie
   for (int j = 0; j < 3; ++j) e.push_back((at(k << j) - ref).norm());
   for (int j = 0; j + 1 < 3; ++j) out.push_back(std::log2(e[j] / e[j + 1]));
   return out;
+}
+
+std::vector<double> orders(I scheme, double T, int k, double rho, bool multipliers) {
+  return orders_of([&](double dt) { return top(scheme, dt, rho); }, T, k, multipliers);
+}
+
+// A coarse, soft Kirchhoff–Love plate (2 × 1 bicubic elements) under a pulse whose modes the steps
+// resolve (as in KLFreePlate.SecondOrderInTheStep: the example's own membrane modes are not
+// resolved at its steps, and its order is not observable there).
+model::Model kl_plate(I scheme, double dt) {
+  auto m = io::read_model_string(R"yaml(
+solver: {t_end: 0.5}
+surfaces:
+  - {name: sheet, builtin: {type: rectangle, size: [1, 0.5]}, refine: {elevate: [2, 2]}}
+kl_shells:
+  - {name: plate, surface: sheet, material: {E: 1.0e4, nu: 0.3, thickness: 0.05, density: 1000}}
+kl_loads:
+  - {shell: plate, edge: u1, force_per_length: [0, 0, "40*sin(5*pi*t)^2*(t<=0.2)"]}
+  - {shell: plate, area_force: [0, "10*sin(5*pi*t)^2*(t<=0.2)", 0]}
+)yaml",
+                                 "plate.yaml");
+  m.solver.integrator = scheme;
+  m.solver.dt = dt;
+  return m;
+}
+
+// The four-bar (loop-closing rows) with the scheme.
+model::Model four_bar(I scheme, double dt) {
+  auto m = test::four_bar();
+  m.solver.integrator = scheme;
+  m.solver.dt = dt;
+  return m;
 }
 
 }  // namespace
@@ -172,4 +207,18 @@ TEST(DaeIntegrator, GeneralizedAlphaConservesLinearMomentumOfAFreeBody) {
   }
   std::printf("  [dae] free body: |p − p₀| ≤ %.2e (|p₀| = %.3g)\n", dp, p0.norm());
   EXPECT_LT(dp, 1e-12 * std::max(1.0, p0.norm()));
+}
+
+// The orders hold on a Kirchhoff–Love patch (point nodes) and on a closed loop of bodies too.
+TEST(DaeIntegrator, ObservedOrdersOnAKirchhoffLovePlateAndTheFourBar) {
+  for (const I scheme : {I::generalized_alpha, I::bdf2, I::bdf1}) {
+    const double order = scheme == I::bdf1 ? 1.0 : 2.0;
+    const auto plate = orders_of([&](double dt) { return kl_plate(scheme, dt); }, 0.5, 100, false);
+    const auto bar = orders_of([&](double dt) { return four_bar(scheme, dt); }, 0.5, 20, false);
+    std::printf("  [dae] %s: orders in q, KL plate %.3f %.3f, four-bar %.3f %.3f\n",
+                model::to_string(scheme), plate[0], plate[1], bar[0], bar[1]);
+    // The plate's first ratio is not yet asymptotic for BDF-2 (measured 1.74, then 1.90).
+    for (const double o : {plate[1], bar[0], bar[1]})
+      EXPECT_NEAR(o, order, 0.15) << model::to_string(scheme);
+  }
 }
