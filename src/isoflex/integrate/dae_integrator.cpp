@@ -107,12 +107,16 @@ DaeIntegrator::Prediction DaeIntegrator::predict(const State& s, double h) const
       return p;
     }
     case I::bdf2:
-      if (s.q_prev.size() == s.q.size() && std::abs(s.last_dt - h) <= 1e-12 * h) {
+      if (s.q_prev.size() == s.q.size() && s.last_dt > 0.0) {
+        // (2.21) on a variable grid, ω = h/hₙ₋₁ (the halves of a subdivided step):
+        // ẋ ≈ [(1 + 2ω)/(1 + ω) xₙ₊₁ − (1 + ω) xₙ + ω²/(1 + ω) xₙ₋₁] / h; ω = 1 gives 3/2, −2, 1/2.
+        const double w = h / s.last_dt;
+        const double c0 = (1.0 + 2.0 * w) / (1.0 + w), c1 = -(1.0 + w), c2 = w * w / (1.0 + w);
         p.q = s.q + h * s.v;
-        p.v = (1.5 * p.q - 2.0 * s.q + 0.5 * s.q_prev) / h;  // (2.21)
-        p.a = (1.5 * p.v - 2.0 * s.v + 0.5 * s.v_prev) / h;
-        p.gamma_p = 1.5 / h;
-        p.beta_p = 2.25 / (h * h);
+        p.v = (c0 * p.q + c1 * s.q + c2 * s.q_prev) / h;
+        p.a = (c0 * p.v + c1 * s.v + c2 * s.v_prev) / h;
+        p.gamma_p = c0 / h;
+        p.beta_p = c0 * c0 / (h * h);
         return p;
       }
       [[fallthrough]];

@@ -14,8 +14,9 @@
 //   generalized-α (Arnold & Brüls, Alg. 2.1, (2.23)–(2.26)), parameters from ρ∞ (Chung–Hulbert):
 //     α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1), γ = ½ − α_m + α_f, β = ¼(γ + ½)²;
 //   BDF-1 (2.20): v = (q − qₙ)/h, q̈ = (v − vₙ)/h;
-//   BDF-2 (2.21): v = (3/2 q − 2qₙ + ½qₙ₋₁)/h, q̈ likewise from the velocities (its first step, and
-//     a step whose length differs from the last one, is taken with BDF-1).
+//   BDF-2 (2.21): v = (3/2 q − 2qₙ + ½qₙ₋₁)/h, q̈ likewise from the velocities (its first step is
+//     taken with BDF-1; a step whose length differs from the last one, as the halves of a
+//     subdivided step, uses the variable-grid coefficients).
 // Newton on (q, λ) with the iteration matrix S_t (2.27), [β'M + γ'C_t + K_t, Gᵀ; G, 0],
 // K_t = ∇²V − ∂f_ext/∂q + Σλᵢ∇²Φᵢ (no velocity-dependent forces yet: C_t = 0). With
 // `solver.scaling` (IGA-thesis §2.2.4, (2.56)–(2.58)) the force rows are multiplied by h², the
