@@ -18,6 +18,16 @@
 
 namespace fs = std::filesystem;
 
+// AddressSanitizer reserves terabytes of shadow address space: no address-space limit under it
+// (GCC defines __SANITIZE_ADDRESS__, clang has __has_feature(address_sanitizer)).
+#if defined(__SANITIZE_ADDRESS__)
+#define ISOFLEX_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ISOFLEX_TEST_ASAN 1
+#endif
+#endif
+
 namespace {
 using isoflex::test::read_text;
 using isoflex::test::run_isoflex;
@@ -130,7 +140,7 @@ TEST(CliMemory, CheckPrintsTheEstimateAndRejectsABadSize) {
 // check, exit 3 with summary.json in run; never "std::bad_alloc" alone or an abort. ASan
 // reserves terabytes of shadow address space, so ulimit -v cannot be used under it.
 TEST(CliMemory, AnAllocationFailureIsAMessage) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ISOFLEX_TEST_ASAN)
   GTEST_SKIP() << "ulimit -v and AddressSanitizer do not mix";
 #endif
   const auto d = temp("bad_alloc");
