@@ -13,9 +13,9 @@ struct CliResult {
   std::string out;  // stdout and stderr
 };
 
-// `isoflex ARGS`, with stderr folded into stdout.
-inline CliResult run_isoflex(const std::string& args) {
-  const std::string cmd = std::string(ISOFLEX_BINARY) + " " + args + " 2>&1";
+// The shell command `command` (sh -c), with stderr folded into stdout.
+inline CliResult run_shell(const std::string& command) {
+  const std::string cmd = "(" + command + ") 2>&1";
   CliResult r{-1, {}};
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -24,6 +24,11 @@ inline CliResult run_isoflex(const std::string& args) {
   const int status = pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// `isoflex ARGS`, with stderr folded into stdout.
+inline CliResult run_isoflex(const std::string& args) {
+  return run_shell(std::string(ISOFLEX_BINARY) + " " + args);
 }
 
 }  // namespace isoflex::test

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <optional>
 #include <thread>
 
@@ -20,23 +22,57 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/io/output_error.hpp"
 #include "isoflex/io/summary_writer.hpp"
+#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/solve/memory.hpp"
+#include "isoflex/system/memory_estimate.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::app {
 
 namespace {
 
-// A model compiled as a system.
+// The memory a model may use: --max-memory, else what the system has available (0: unknown, no
+// limit), and how a message says it.
+struct MemoryLimit {
+  double bytes = 0;
+  std::string text;  // "17 GB are available", "--max-memory is 2.0 GB"
+};
+
+MemoryLimit memory_limit(const std::optional<double>& max_memory) {
+  if (max_memory)
+    return {*max_memory, fmt::format("--max-memory is {}", system::format_bytes(*max_memory))};
+  if (const auto available = solve::available_memory_bytes())
+    return {*available, fmt::format("{} are available", system::format_bytes(*available))};
+  return {};
+}
+
+// What an allocation failure says: the solver's own message (solve::OutOfMemory: which
+// factorization, how many unknowns), not "std::bad_alloc".
+std::string out_of_memory_cause(const std::bad_alloc& e) {
+  if (dynamic_cast<const solve::OutOfMemory*>(&e)) return e.what();
+  return "an allocation failed";
+}
+
+// A model compiled as a system, with its memory estimate.
 struct Loaded {
   model::Model model;
   std::unique_ptr<system::System> sys;
+  system::MemoryEstimate memory;
+  MemoryLimit limit;
 };
 
 // Reads and compiles a model, with the options' solver overrides applied first; prints one error
-// line and returns nullopt on bad input.
-std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o = nullptr) {
+// line and returns nullopt on bad input. A model whose memory estimate exceeds the limit is
+// refused before it is compiled (the located part that needs the most). If the memory runs out
+// all the same, `out_of_memory` (if given) receives the message.
+std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o,
+                           const std::optional<double>& max_memory,
+                           std::string* out_of_memory = nullptr) {
+  const MemoryLimit limit = memory_limit(max_memory);
+  const char* doing = "reading";
+  double estimate = 0;
   try {
-    Loaded l{io::read_model(file), nullptr};
+    Loaded l{io::read_model(file, {limit.bytes, limit.text}), nullptr, {}, limit};
     model::Solver& s = l.model.solver;
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
@@ -46,8 +82,32 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
       return std::nullopt;
     }
     if (o && o->statics) s.analysis = model::Analysis::statics;
+    // Before anything of the model's size is allocated (System::compile).
+    l.memory = system::estimate_memory(l.model);
+    estimate = l.memory.total();
+    if (limit.bytes > 0 && estimate > limit.bytes) {
+      const system::MemoryPart* part = l.memory.largest();
+      const std::string where =
+          part && part->source.line > 0
+              ? fmt::format("{}:{}: {}: ", part->source.file.empty() ? file : part->source.file,
+                            part->source.line, part->what)
+              : fmt::format("{}: ", file);
+      fmt::print(err,
+                 "error: {}this model needs about {} ({}; {}: {}), {} (--max-memory to change)\n",
+                 where, system::format_bytes(estimate), l.memory.breakdown(),
+                 part ? part->what : "", part ? part->detail : "", limit.text);
+      return std::nullopt;
+    }
+    doing = "compiling";
     l.sys = std::make_unique<system::System>(system::System::compile(l.model));
     return l;
+  } catch (const std::bad_alloc& e) {
+    const std::string message = fmt::format(
+        "{}: out of memory while {} the model ({}; the estimate was {}, {})", file, doing,
+        out_of_memory_cause(e), estimate > 0 ? system::format_bytes(estimate) : "not made yet",
+        limit.bytes > 0 ? limit.text : "the available memory is unknown");
+    fmt::print(err, "error: {}\n", message);
+    if (out_of_memory) *out_of_memory = message;
   } catch (const io::ModelError& e) {
     fmt::print(err, "error: {}\n", e.what());
   } catch (const system::CompileError& e) {
@@ -142,10 +202,38 @@ std::string non_finite_results(const integrate::Snapshot& snap, const integrate:
 
 }  // namespace
 
-int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
-  auto l = load(file, err);
-  if (!l) return 2;
+std::optional<double> parse_memory_size(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  std::string suffix = text.substr(used);
+  if (suffix.size() == 2 && (suffix[1] == 'B' || suffix[1] == 'b')) suffix.pop_back();  // "GB"
+  double unit = 1;
+  if (suffix.size() == 1) {
+    const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(suffix[0])));
+    const std::string units = "KMGT";
+    const auto k = units.find(c);
+    if (k == std::string::npos) return std::nullopt;
+    unit = std::pow(1024.0, double(k + 1));
+  } else if (!suffix.empty()) {
+    return std::nullopt;
+  }
+  if (!(value > 0) || !std::isfinite(value * unit)) return std::nullopt;
+  return value * unit;
+}
+
+int check_command(const std::string& file, std::FILE* out, std::FILE* err,
+                  const CheckOptions& options) {
+  auto l = load(file, err, nullptr, options.max_memory);
+  if (!l) return kExitBadInput;
   fmt::print(out, "model            {}\n", file);
+  fmt::print(out, "memory           about {} to run, {} to check ({}){}\n",
+             system::format_bytes(l->memory.total()), system::format_bytes(l->memory.compile()),
+             l->memory.breakdown(), l->limit.bytes > 0 ? "; " + l->limit.text : "");
   fmt::print(out, "bodies           {}\n", l->model.bodies.size());
   if (l->sys && !l->sys->beams().empty()) {
     std::size_t elements = 0;
@@ -254,14 +342,31 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err) {
 }
 
 int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
-  auto l = load(o.model_file, err, &o);
-  if (!l) return 2;
-  model::Model& m = l->model;
-  const bool statics = m.solver.analysis == model::Analysis::statics;
   const std::filesystem::path outdir =
       o.outdir.empty() ? std::filesystem::path("out") /
                              std::filesystem::path(o.model_file).parent_path().filename()
                        : std::filesystem::path(o.outdir);
+  std::string out_of_memory;
+  auto l = load(o.model_file, err, &o, o.max_memory, &out_of_memory);
+  if (!l && !out_of_memory.empty()) {
+    // The model was accepted but its compilation ran out of memory: a run that failed, with
+    // summary.json saying why (where the output folder can be made).
+    io::RunSummary sum;
+    sum.model = o.model_file;
+    sum.status = "failed";
+    sum.message = out_of_memory;
+    std::error_code ec;
+    std::filesystem::create_directories(outdir, ec);
+    try {
+      if (!ec) io::write_summary_json(outdir / "summary.json", sum);
+    } catch (const io::OutputError& e) {
+      fmt::print(err, "error: {}\n", e.what());
+    }
+    return kExitNewtonFailure;
+  }
+  if (!l) return kExitBadInput;
+  model::Model& m = l->model;
+  const bool statics = m.solver.analysis == model::Analysis::statics;
   std::error_code ec;
   std::filesystem::create_directories(outdir, ec);
   if (ec) {
@@ -333,25 +438,38 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   const auto t0 = std::chrono::steady_clock::now();
   int code = 0;
   std::string linear;  // static runs: "linear" or "nonlinear"
+  // What the run is doing, for an out-of-memory message ("in load step 3 (t = 0.3)").
+  std::string doing = "while opening the output files";
   try {
     outputs.emplace(outdir, m, err);
     outputs->snapshot(snap);
     if (statics) {
+      doing = "while setting up the static solver";
       integrate::StaticEquilibrium equilibrium(sys, m.solver);
       sum.n_unknowns = equilibrium.unknowns();
       sum.dt = m.solver.t_end / equilibrium.settings().steps;
       linear = m.solver.linear ? "linear" : "nonlinear";
+      doing =
+          fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
       equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
         state.q = x.head(sys.n());
         state.t = st.t;
         state.step = st.step;
+        doing = fmt::format("while recording load step {}", sum.steps + 1);
         record({st.iterations, st.residual, st.cuts + 1});
+        doing = fmt::format("in load step {} (assembling and factorizing {} unknowns)",
+                            sum.steps + 1, sum.n_unknowns);
       });
     } else {
+      doing = "while setting up the time stepping";
       integ = integrate::make_time_integrator(sys, m.solver);
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-      for (int i = 0; i < steps; ++i) record(integ->step(state));
+      for (int i = 0; i < steps; ++i) {
+        doing = fmt::format("in step {} (t = {:.6g}; assembling and factorizing {} unknowns)",
+                            i + 1, state.t + m.solver.dt, sum.n_unknowns);
+        record(integ->step(state));
+      }
     }
   } catch (const integrate::NewtonFailure& e) {
     sum.status = "failed";
@@ -370,6 +488,14 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     // integrator or the load stepping): the run fails as a step does, with the cause.
     sum.status = "failed";
     sum.message = fmt::format("numerical failure: {}", e.what());
+    code = kExitNewtonFailure;
+  } catch (const std::bad_alloc& e) {
+    // Out of memory although the estimate fitted (other processes took memory, or the estimate
+    // was low): the run fails with what it was doing, the outputs so far stay valid.
+    sum.status = "failed";
+    sum.message = fmt::format("out of memory {}: {} (the estimate was {}, {})", doing,
+                              out_of_memory_cause(e), system::format_bytes(l->memory.total()),
+                              l->limit.bytes > 0 ? l->limit.text : "available memory unknown");
     code = kExitNewtonFailure;
   }
   sum.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

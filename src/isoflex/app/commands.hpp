@@ -20,9 +20,22 @@ struct RunOptions {
   // Threads of the Kirchhoff–Love shell assembly; 0 = every hardware thread. Results do not
   // depend on it (elements::ColouredElementLoop).
   int threads = 0;
+  // The memory the run may use, bytes (--max-memory); default: MemAvailable of /proc/meminfo.
+  // A model whose estimate (system/memory_estimate.hpp) exceeds it is refused (exit 2).
+  std::optional<double> max_memory;
+};
+
+struct CheckOptions {
+  std::optional<double> max_memory;  // as RunOptions::max_memory
 };
 
 int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);
-int check_command(const std::string& model_file, std::FILE* out = stdout, std::FILE* err = stderr);
+int check_command(const std::string& model_file, std::FILE* out = stdout, std::FILE* err = stderr,
+                  const CheckOptions& options = {});
+
+// A memory size as --max-memory takes it: a number of bytes with an optional suffix K, M, G or T
+// (powers of 1024, as free(1) and /proc/meminfo count), optionally followed by B: "2G", "512M",
+// "1.5GB", "3000000000". nullopt if `text` is not one, or not positive.
+std::optional<double> parse_memory_size(const std::string& text);
 
 }  // namespace isoflex::app

@@ -2,9 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <new>
+#include <utility>
 
 #include "isoflex/app/cad_info.hpp"
 #include "isoflex/app/commands.hpp"
+#include "isoflex/app/exit_codes.hpp"
 #include "isoflex/solve/memory.hpp"
 
 int main(int argc, char** argv) {
@@ -24,6 +27,11 @@ int main(int argc, char** argv) {
   r->add_option("--t-end", run.t_end, "end time (overrides the model)");
   r->add_flag("--static", run.statics,
               "static equilibrium at t = dt, 2 dt, ..., t_end (t as a load parameter)");
+  std::string run_memory, check_memory;
+  const char* memory_help =
+      "memory the model may use, e.g. 2G, 512M (K, M, G, T: powers of 1024; default: "
+      "MemAvailable of /proc/meminfo); a model estimated to need more is refused";
+  r->add_option("--max-memory", run_memory, memory_help);
   r->add_option("--threads", run.threads,
                 "threads of the Kirchhoff-Love shell assembly (default 0: all cores; results "
                 "are the same for any number)")
@@ -32,6 +40,7 @@ int main(int argc, char** argv) {
   std::string check_file;
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");
   c->add_option("MODEL", check_file, "model file (YAML)")->required();
+  c->add_option("--max-memory", check_memory, memory_help);
 
   std::string cad_file;
   auto* ci = app.add_subcommand("cad-info",
@@ -46,8 +55,28 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   if (!formulation.empty()) run.formulation = isoflex::model::formulation_from_string(formulation);
-  if (*r) return isoflex::app::run_command(run);
-  if (*c) return isoflex::app::check_command(check_file);
-  if (*ci) return isoflex::app::cad_info_command(cad_file, std::cout, std::cerr);
+  isoflex::app::CheckOptions check;
+  for (auto [text, target] :
+       {std::pair{&run_memory, &run.max_memory}, std::pair{&check_memory, &check.max_memory}}) {
+    if (text->empty()) continue;
+    *target = isoflex::app::parse_memory_size(*text);
+    if (!*target) {
+      std::fprintf(stderr,
+                   "error: --max-memory: \"%s\" is not a memory size (e.g. 2G, 512M, "
+                   "3000000000)\n",
+                   text->c_str());
+      return isoflex::app::kExitBadInput;
+    }
+  }
+  // The commands report running out of memory themselves (with what they were doing); this is
+  // the last guard, so that no std::bad_alloc ends the process uncaught.
+  try {
+    if (*r) return isoflex::app::run_command(run);
+    if (*c) return isoflex::app::check_command(check_file, stdout, stderr, check);
+    if (*ci) return isoflex::app::cad_info_command(cad_file, std::cout, std::cerr);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (the model needs more than this machine has)\n");
+    return isoflex::app::kExitNewtonFailure;
+  }
   return 2;
 }

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -68,6 +69,8 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
       return R;
     } catch (const NewtonFailure&) {
       throw;
+    } catch (const std::bad_alloc&) {
+      throw;  // out of memory ends the run (app/commands.cpp), no smaller step would fit better
     } catch (const std::runtime_error& e) {
       out.reason = fmt::format("evaluation failed at Newton iteration {}: {}", it, e.what());
       return VecX();
@@ -103,6 +106,8 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     bool small = false;
     try {
       small = correct(R);
+    } catch (const std::bad_alloc&) {
+      throw;  // e.g. solve::OutOfMemory from the factorization: not a failed iteration
     } catch (const std::exception& e) {
       out.reason =
           fmt::format("the Newton correction failed at iteration {}: {}", it + 1, e.what());

@@ -68,7 +68,8 @@ bool needs_point(JointType t) {
 
 class Reader : YamlFields {
  public:
-  explicit Reader(std::string file) : YamlFields(std::move(file)) {}
+  Reader(std::string file, ReadOptions options)
+      : YamlFields(std::move(file)), options_(std::move(options)) {}
 
   Model read(const YAML::Node& root) {
     if (!root.IsMap())
@@ -94,7 +95,8 @@ class Reader : YamlFields {
       for (std::size_t i = 0; i < list.size(); ++i)
         m.beams.push_back(read_beam(list[i], indexed("beams", i)));
     m.surfaces = read_surfaces(root["surfaces"], file());  // surface_reader.cpp
-    const ShellReader shells(file());                      // shell_reader.cpp
+    const ShellReader shells(file(), options_.memory_limit,
+                             options_.memory_limit_text);  // shell_reader.cpp
     m.shells = shells.shells(root["shells"], m.surfaces);
     for (const auto& s : m.shells) {
       if (body_lines_.contains(s.name) || beams_.contains(s.name))
@@ -154,6 +156,7 @@ class Reader : YamlFields {
   }
 
  private:
+  ReadOptions options_;
   // ---- values and blocks (YamlFields: structure, scalars, vectors) --------------------------
 
   // ---- blocks -----------------------------------------------------------------------------
@@ -715,17 +718,18 @@ class Reader : YamlFields {
 
 }  // namespace
 
-model::Model read_model_string(const std::string& yaml, const std::string& name_for_messages) {
+model::Model read_model_string(const std::string& yaml, const std::string& name_for_messages,
+                               const ReadOptions& options) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
     throw ModelError(name_for_messages, e.mark.line >= 0 ? e.mark.line + 1 : 1, "", e.msg);
   }
-  return Reader(name_for_messages).read(root);
+  return Reader(name_for_messages, options).read(root);
 }
 
-model::Model read_model(const std::string& path) {
+model::Model read_model(const std::string& path, const ReadOptions& options) {
   std::error_code ec;
   std::ifstream in;
   if (std::filesystem::is_regular_file(path, ec)) in.open(path, std::ios::binary);
@@ -733,7 +737,7 @@ model::Model read_model(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw ModelError(path, 0, "", "cannot read model file");
-  return read_model_string(text.str(), path);
+  return read_model_string(text.str(), path, options);
 }
 
 }  // namespace isoflex::io

@@ -9,11 +9,21 @@
 
 namespace isoflex::io {
 
+// What the reader may build. A structured shell mesh is made of nodes by the reader itself
+// (10⁴ × 10⁴ elements are 10⁸ nodes, issue #15), so its memory estimate
+// (system::director_shell_grid) is checked against `memory_limit` before it is built: a located
+// ModelError naming the estimate and `memory_limit_text` ("17 GB are available"). 0: no limit.
+struct ReadOptions {
+  double memory_limit = 0;
+  std::string memory_limit_text;
+};
+
 // Reads the model file at `path` (which becomes Model::file and the FILE of messages).
-model::Model read_model(const std::string& path);
+model::Model read_model(const std::string& path, const ReadOptions& options = {});
 
 // Reads a model from the YAML text `yaml`; `name_for_messages` stands for the file name in
 // messages and in Model::file / Source::file.
-model::Model read_model_string(const std::string& yaml, const std::string& name_for_messages);
+model::Model read_model_string(const std::string& yaml, const std::string& name_for_messages,
+                               const ReadOptions& options = {});
 
 }  // namespace isoflex::io

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/system/memory_estimate.hpp"
 
 namespace isoflex::io {
 
@@ -105,6 +106,17 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
     s.grid_v = integer(e[1], indexed(key, 1), 1);
     if (s.grid_u > kMaxShellElements || s.grid_v > kMaxShellElements)
       fail(e, key, fmt::format("at most {} elements per direction", kMaxShellElements));
+    // Before the mesh is built here (issue #15: 10⁴ × 10⁴ elements ended in std::bad_alloc).
+    if (memory_limit_ > 0) {
+      const system::MemoryPart part = system::director_shell_grid(s.grid_u, s.grid_v);
+      if (part.bytes() > memory_limit_)
+        fail(e, key,
+             fmt::format("this shell needs about {} ({}: sparse LU {}, sparse matrices {}), {} "
+                         "(--max-memory to change)",
+                         system::format_bytes(part.bytes()), part.detail,
+                         system::format_bytes(part.factor_bytes),
+                         system::format_bytes(part.matrix_bytes), memory_limit_text_));
+    }
   };
 
   if (const auto plate = n["plate"]) {

@@ -17,7 +17,13 @@ namespace isoflex::io {
 
 class ShellReader : YamlFields {
  public:
-  explicit ShellReader(std::string file) : YamlFields(std::move(file)) {}
+  // memory_limit > 0: a structured mesh whose estimate (system::director_shell_grid) exceeds it
+  // is a located error before its nodes are made; memory_limit_text says what the limit is.
+  explicit ShellReader(std::string file, double memory_limit = 0,
+                       std::string memory_limit_text = "")
+      : YamlFields(std::move(file)),
+        memory_limit_(memory_limit),
+        memory_limit_text_(std::move(memory_limit_text)) {}
 
   std::vector<model::Shell> shells(const YAML::Node& list,
                                    const std::vector<model::Surface>& surfaces) const;
@@ -41,6 +47,10 @@ class ShellReader : YamlFields {
                                   const model::Shell& s) const;
   std::vector<int> edge_nodes(const YAML::Node& n, const std::string& key,
                               const model::Shell& s) const;
+
+ private:
+  double memory_limit_ = 0;
+  std::string memory_limit_text_;
 };
 
 }  // namespace isoflex::io

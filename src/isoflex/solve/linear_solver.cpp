@@ -6,19 +6,92 @@
 #include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 
 namespace isoflex::solve {
 
 namespace {
+// 64-bit column pointers and row indices (SuiteSparse_long: int64_t on Debian's SuiteSparse 5.12),
+// for umfpack_dl_* and cholmod_l_* through Eigen 3.4's UmfPackLU / CholmodBase, which pick the
+// SuiteSparse routine by the matrix's StorageIndex (Eigen/src/UmfPackSupport/UmfPackSupport.h,
+// the SuiteSparse_long overloads; CholmodSupport.h, cm_*<SuiteSparse_long> → cholmod_l_*).
+using SpMatL = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
+
+// Eigen's UmfPackLU with UMFPACK's status (Info[UMFPACK_STATUS], UMFPACK User Guide §5.3): Eigen
+// maps every failure of umfpack_*_numeric to NumericalIssue and of umfpack_*_symbolic to
+// InvalidInput, but out of memory is not a singular matrix. Info is a protected member.
+template <class Matrix>
+class UmfPack : public Eigen::UmfPackLU<Matrix> {
+ public:
+  double status() const { return this->m_umfpackInfo[UMFPACK_STATUS]; }
+};
+
+std::string unknowns_text(Eigen::Index rows, Eigen::Index nnz, bool long_indices) {
+  return "at " + std::to_string(rows) + " unknowns (" + std::to_string(nnz) + " non-zeros, " +
+         (long_indices ? "64" : "32") + "-bit indices)";
+}
+
+[[noreturn]] void throw_lu_out_of_memory(Eigen::Index rows, Eigen::Index nnz, bool long_indices) {
+  throw OutOfMemory("out of memory in the sparse LU (UMFPACK) " +
+                    unknowns_text(rows, nnz, long_indices));
+}
+
+[[noreturn]] void throw_cholesky_out_of_memory(Eigen::Index rows, Eigen::Index nnz,
+                                               bool long_indices, int status) {
+  throw OutOfMemory(std::string(status == CHOLMOD_TOO_LARGE ? "the factor exceeds the index range"
+                                                            : "out of memory") +
+                    " in the sparse Cholesky factorization (CHOLMOD) " +
+                    unknowns_text(rows, nnz, long_indices));
+}
+
 bool use_dense(const SpMat& A);
 
+bool use_long(IndexWidth width, const SpMat& A) {
+  return width == IndexWidth::int64 || (width == IndexWidth::automatic &&
+                                        A.rows() >= static_cast<Eigen::Index>(kLongIndexUnknowns));
+}
+
 // Numeric LU of A (pattern analysed already) and the solution of A x = b.
-VecX factorize_and_solve(Eigen::UmfPackLU<SpMat>& lu, const SpMat& A, const VecX& b) {
-  lu.factorize(A);
-  if (lu.info() != Eigen::Success) throw std::runtime_error("singular Newton matrix (sparse LU)");
+template <class Matrix>
+VecX factorize_and_solve(UmfPack<Matrix>& lu, const Matrix& A, const VecX& b) {
+  constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
+  try {
+    lu.factorize(A);
+  } catch (const std::bad_alloc&) {
+    throw_lu_out_of_memory(A.rows(), A.nonZeros(), long_indices);
+  }
+  if (lu.info() != Eigen::Success) {
+    if (lu.status() == UMFPACK_ERROR_out_of_memory)
+      throw_lu_out_of_memory(A.rows(), A.nonZeros(), long_indices);
+    throw std::runtime_error("singular Newton matrix (sparse LU)");
+  }
   VecX x = lu.solve(b);
   if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
   return x;
+}
+
+// Symbolic analysis by UMFPACK; out of memory there is reported as such.
+template <class Matrix>
+void analyze_lu(UmfPack<Matrix>& lu, const Matrix& A) {
+  constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
+  try {
+    lu.analyzePattern(A);
+  } catch (const std::bad_alloc&) {
+    throw_lu_out_of_memory(A.rows(), A.nonZeros(), long_indices);
+  }
+  if (lu.info() != Eigen::Success && lu.status() == UMFPACK_ERROR_out_of_memory)
+    throw_lu_out_of_memory(A.rows(), A.nonZeros(), long_indices);
+}
+
+// The 64-bit copy of A: the pattern when it changed, the values always.
+void copy_long(const SpMat& A, bool new_pattern, SpMatL& L) {
+  if (new_pattern || L.rows() != A.rows() || L.nonZeros() != A.nonZeros()) {
+    L.resize(A.rows(), A.cols());
+    L.resizeNonZeros(A.nonZeros());
+    std::copy(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1, L.outerIndexPtr());
+    std::copy(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), L.innerIndexPtr());
+  }
+  std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), L.valuePtr());
 }
 }  // namespace
 
@@ -31,8 +104,15 @@ VecX solve(const SpMat& A, const VecX& b) {
     if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
     return x;
   }
-  Eigen::UmfPackLU<SpMat> lu;
-  lu.analyzePattern(A);
+  if (use_long(IndexWidth::automatic, A)) {
+    SpMatL L;
+    copy_long(A, true, L);
+    UmfPack<SpMatL> lu;
+    analyze_lu(lu, L);
+    return factorize_and_solve(lu, L, b);
+  }
+  UmfPack<SpMat> lu;
+  analyze_lu(lu, A);
   return factorize_and_solve(lu, A, b);
 }
 
@@ -49,10 +129,10 @@ struct KeptPattern {
   int rows = -1, analyses = 0;
 };
 
-// Runs solver.analyzePattern(A) unless the compressed A has the kept pattern, and then keeps
-// A's pattern.
-template <class Solver>
-void analyze_if_new_pattern(Solver& solver, KeptPattern& kept, const SpMat& A) {
+// Unless the compressed A has the kept pattern: runs analyze() (the solver's symbolic analysis,
+// which may throw) and then keeps A's pattern. Returns whether it analysed.
+template <class Analyze>
+bool analyze_if_new_pattern(KeptPattern& kept, const SpMat& A, Analyze&& analyze) {
   const int* o = A.outerIndexPtr();
   const int* i = A.innerIndexPtr();
   const bool same = kept.rows == A.rows() &&
@@ -60,34 +140,59 @@ void analyze_if_new_pattern(Solver& solver, KeptPattern& kept, const SpMat& A) {
                     kept.inner.size() == static_cast<std::size_t>(A.nonZeros()) &&
                     std::equal(kept.outer.begin(), kept.outer.end(), o) &&
                     std::equal(kept.inner.begin(), kept.inner.end(), i);
-  if (same) return;
-  solver.analyzePattern(A);
+  if (same) return false;
+  kept.rows = -1;  // no valid analysis until analyze() returns
+  analyze();
   kept.outer.assign(o, o + A.outerSize() + 1);
   kept.inner.assign(i, i + A.nonZeros());
   kept.rows = static_cast<int>(A.rows());
   ++kept.analyses;
+  return true;
 }
 }  // namespace
 
 struct FixedPatternLU::Impl {
-  Eigen::UmfPackLU<SpMat> lu;
+  IndexWidth width;
+  UmfPack<SpMat> lu;
   KeptPattern pattern;
+  // The 64-bit path: its own solver, pattern and copy of A (made on first use).
+  std::unique_ptr<UmfPack<SpMatL>> lu64;
+  KeptPattern pattern64;
+  SpMatL A64;
+  bool last_long = false;
 };
 
-FixedPatternLU::FixedPatternLU() : impl_(std::make_unique<Impl>()) {}
+FixedPatternLU::FixedPatternLU(IndexWidth width) : impl_(std::make_unique<Impl>()) {
+  impl_->width = width;
+}
 FixedPatternLU::~FixedPatternLU() = default;
 FixedPatternLU::FixedPatternLU(FixedPatternLU&&) noexcept = default;
 FixedPatternLU& FixedPatternLU::operator=(FixedPatternLU&&) noexcept = default;
 int FixedPatternLU::analyses() const {
-  return impl_->pattern.analyses;
+  return impl_->pattern.analyses + impl_->pattern64.analyses;
+}
+bool FixedPatternLU::used_long_indices() const {
+  return impl_->last_long;
 }
 
 VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternLU: matrix not compressed");
   if (use_dense(A)) return solve::solve(A, b);
   Impl& m = *impl_;
-  analyze_if_new_pattern(m.lu, m.pattern, A);
-  return factorize_and_solve(m.lu, A, b);
+  m.last_long = use_long(m.width, A);
+  if (!m.last_long) {
+    analyze_if_new_pattern(m.pattern, A, [&] { analyze_lu(m.lu, A); });
+    return factorize_and_solve(m.lu, A, b);
+  }
+  if (!m.lu64) m.lu64 = std::make_unique<UmfPack<SpMatL>>();
+  bool copied = false;
+  analyze_if_new_pattern(m.pattern64, A, [&] {
+    copy_long(A, true, m.A64);
+    copied = true;
+    analyze_lu(*m.lu64, m.A64);
+  });
+  if (!copied) copy_long(A, false, m.A64);
+  return factorize_and_solve(*m.lu64, m.A64, b);
 }
 
 struct FixedPatternLDLT::Impl {
@@ -106,38 +211,104 @@ int FixedPatternLDLT::analyses() const {
 VecX FixedPatternLDLT::solve(const SpMat& A, const VecX& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternLDLT: matrix not compressed");
   Impl& m = *impl_;
-  analyze_if_new_pattern(m.ldlt, m.pattern, A);
+  analyze_if_new_pattern(m.pattern, A, [&] { m.ldlt.analyzePattern(A); });
   m.ldlt.factorize(A);
   if (m.ldlt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
   return m.ldlt.solve(b);
 }
 
+namespace {
+template <class Matrix>
+using Supernodal = Eigen::CholmodSupernodalLLT<Matrix, Eigen::Lower>;
+
+// An indefinite matrix is reported by the exception (callers fall back to LU), not printed.
+template <class Matrix>
+void quiet(Supernodal<Matrix>& llt) {
+  llt.cholmod().print = 0;
+  llt.cholmod().quick_return_if_not_posdef = 1;
+}
+
+// CHOLMOD reports a failure in Common->status (CHOLMOD User Guide, cholmod_common: status < 0
+// an error, CHOLMOD_NOT_POSDEF > 0 a warning); Eigen only looks at L->minor.
+template <class Matrix>
+void check_cholmod(const Supernodal<Matrix>& llt, const Matrix& A) {
+  constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
+  const int status = const_cast<Supernodal<Matrix>&>(llt).cholmod().status;
+  if (status == CHOLMOD_OUT_OF_MEMORY || status == CHOLMOD_TOO_LARGE)
+    throw_cholesky_out_of_memory(A.rows(), A.nonZeros(), long_indices, status);
+}
+
+template <class Matrix>
+VecX cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const VecX& b) {
+  constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
+  try {
+    llt.factorize(A);
+  } catch (const std::bad_alloc&) {
+    throw_cholesky_out_of_memory(A.rows(), A.nonZeros(), long_indices, CHOLMOD_OUT_OF_MEMORY);
+  }
+  check_cholmod(llt, A);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
+  VecX x = llt.solve(b);
+  if (!x.allFinite()) throw std::runtime_error("matrix not positive definite");
+  return x;
+}
+
+template <class Matrix>
+void analyze_cholesky(Supernodal<Matrix>& llt, const Matrix& A) {
+  constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
+  try {
+    llt.analyzePattern(A);
+  } catch (const std::bad_alloc&) {
+    throw_cholesky_out_of_memory(A.rows(), A.nonZeros(), long_indices, CHOLMOD_OUT_OF_MEMORY);
+  }
+  check_cholmod(llt, A);
+}
+}  // namespace
+
 struct FixedPatternCholesky::Impl {
-  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt;
+  IndexWidth width;
+  Supernodal<SpMat> llt;
   KeptPattern pattern;
+  std::unique_ptr<Supernodal<SpMatL>> llt64;  // the 64-bit path (cholmod_l_*), on first use
+  KeptPattern pattern64;
+  SpMatL A64;
+  bool last_long = false;
 };
 
-FixedPatternCholesky::FixedPatternCholesky() : impl_(std::make_unique<Impl>()) {
-  // An indefinite matrix is reported by the exception (callers fall back to LU), not printed.
-  impl_->llt.cholmod().print = 0;
-  impl_->llt.cholmod().quick_return_if_not_posdef = 1;
+FixedPatternCholesky::FixedPatternCholesky(IndexWidth width) : impl_(std::make_unique<Impl>()) {
+  impl_->width = width;
+  quiet(impl_->llt);
 }
 FixedPatternCholesky::~FixedPatternCholesky() = default;
 FixedPatternCholesky::FixedPatternCholesky(FixedPatternCholesky&&) noexcept = default;
 FixedPatternCholesky& FixedPatternCholesky::operator=(FixedPatternCholesky&&) noexcept = default;
 int FixedPatternCholesky::analyses() const {
-  return impl_->pattern.analyses;
+  return impl_->pattern.analyses + impl_->pattern64.analyses;
+}
+bool FixedPatternCholesky::used_long_indices() const {
+  return impl_->last_long;
 }
 
 VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternCholesky: matrix not compressed");
   Impl& m = *impl_;
-  analyze_if_new_pattern(m.llt, m.pattern, A);
-  m.llt.factorize(A);
-  if (m.llt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
-  VecX x = m.llt.solve(b);
-  if (!x.allFinite()) throw std::runtime_error("matrix not positive definite");
-  return x;
+  m.last_long = use_long(m.width, A);
+  if (!m.last_long) {
+    analyze_if_new_pattern(m.pattern, A, [&] { analyze_cholesky(m.llt, A); });
+    return cholesky_solve(m.llt, A, b);
+  }
+  if (!m.llt64) {
+    m.llt64 = std::make_unique<Supernodal<SpMatL>>();
+    quiet(*m.llt64);
+  }
+  bool copied = false;
+  analyze_if_new_pattern(m.pattern64, A, [&] {
+    copy_long(A, true, m.A64);
+    copied = true;
+    analyze_cholesky(*m.llt64, m.A64);
+  });
+  if (!copied) copy_long(A, false, m.A64);
+  return cholesky_solve(*m.llt64, m.A64, b);
 }
 
 // An empty G (no rows, or no columns: rows over a system without freedom, e.g. a locked loop) has

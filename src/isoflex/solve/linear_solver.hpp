@@ -4,6 +4,8 @@
 // constraints, and condition numbers. Eigen's decompositions are compiled only here.
 #include <Eigen/SparseCore>
 #include <memory>
+#include <new>
+#include <string>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -12,7 +14,33 @@ namespace isoflex::solve {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// Solves A x = b; throws std::runtime_error if A is numerically singular.
+// A factorization ran out of memory (the solver's own report, UMFPACK_ERROR_out_of_memory or
+// CHOLMOD_OUT_OF_MEMORY / CHOLMOD_TOO_LARGE, or a std::bad_alloc while factorizing): what() says
+// which factorization and at how many unknowns. A std::bad_alloc, not a std::runtime_error, so
+// that no fallback meant for a numerical failure (Cholesky → LU, a halved step) retries it.
+class OutOfMemory : public std::bad_alloc {
+ public:
+  explicit OutOfMemory(std::string what) : what_(std::move(what)) {}
+  const char* what() const noexcept override { return what_.c_str(); }
+
+ private:
+  std::string what_;
+};
+
+// Which integer type the sparse factorizations (UMFPACK, CHOLMOD) index with. With 32-bit
+// indices (umfpack_di_*, cholmod_*) the factors are limited to 2³¹ entries and UMFPACK's
+// numeric object to 2³¹ 8-byte units: a 177 000-unknown Kirchhoff–Love patch failed with
+// UMFPACK_ERROR_out_of_memory at 4.8 GB resident (issue #15). The 64-bit interfaces
+// (umfpack_dl_*, cholmod_l_*: SuiteSparse_long, Eigen 3.4 UmfPackLU / CholmodBase with
+// StorageIndex = SuiteSparse_long) are bounded by memory only; they copy the matrix's index
+// arrays once per pattern and its values once per factorization. `automatic`: 64-bit from
+// kLongIndexUnknowns unknowns on, 32-bit below, so that small systems factorize exactly as
+// before (the two give the same numbers; docs/memory.md).
+enum class IndexWidth { automatic, int32, int64 };
+inline constexpr int kLongIndexUnknowns = 20000;
+
+// Solves A x = b; throws std::runtime_error if A is numerically singular, OutOfMemory if the
+// factorization does not fit.
 VecX solve(const SpMat& A, const VecX& b);
 
 // Solves A x = b for a sequence of matrices with one sparsity pattern (Newton matrices assembled
@@ -23,13 +51,15 @@ VecX solve(const SpMat& A, const VecX& b);
 // factorization is repeated. Not thread-safe (a cache).
 class FixedPatternLU {
  public:
-  FixedPatternLU();
+  explicit FixedPatternLU(IndexWidth width = IndexWidth::automatic);
   ~FixedPatternLU();
   FixedPatternLU(FixedPatternLU&&) noexcept;
   FixedPatternLU& operator=(FixedPatternLU&&) noexcept;
-  // Throws std::runtime_error if A is numerically singular. A must be compressed.
+  // Throws std::runtime_error if A is numerically singular, OutOfMemory if the LU does not fit.
+  // A must be compressed.
   VecX solve(const SpMat& A, const VecX& b);
-  int analyses() const;  // how often the pattern was analysed
+  int analyses() const;            // how often the pattern was analysed
+  bool used_long_indices() const;  // the last sparse factorization was the 64-bit one
 
  private:
   struct Impl;
@@ -55,15 +85,16 @@ class FixedPatternLDLT {
 // The same for large symmetric positive definite matrices (stiffness matrices of static
 // analysis): supernodal Cholesky LLᵀ by CHOLMOD (its own choice of AMD or METIS ordering), the
 // symbolic analysis kept while the pattern does not change; the lower triangle of A is used.
-// Throws std::runtime_error if A is not positive definite.
+// Throws std::runtime_error if A is not positive definite, OutOfMemory if the factor does not fit.
 class FixedPatternCholesky {
  public:
-  FixedPatternCholesky();
+  explicit FixedPatternCholesky(IndexWidth width = IndexWidth::automatic);
   ~FixedPatternCholesky();
   FixedPatternCholesky(FixedPatternCholesky&&) noexcept;
   FixedPatternCholesky& operator=(FixedPatternCholesky&&) noexcept;
   VecX solve(const SpMat& A, const VecX& b);
   int analyses() const;
+  bool used_long_indices() const;
 
  private:
   struct Impl;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <new>
 
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
@@ -160,6 +161,8 @@ void System::add_beams(Build& build) {
         // reference strains of the next element absorb the kink.
         q.insert(q.end(), part.begin() + (seg == 0 ? 0 : 1), part.end());
       }
+    } catch (const std::bad_alloc&) {
+      throw;  // out of memory is not a model error (app/commands.cpp reports it)
     } catch (const std::exception& e) {
       fail(B.source, what, e.what());
     }
@@ -177,6 +180,8 @@ void System::add_beams(Build& build) {
       try {
         elements_.push_back(std::make_unique<elements::BeamElement>(a, a + 1, q[k], q[k + 1],
                                                                     section, model.gravity));
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& e) {
         fail(B.source, fmt::format("{}.section", what), e.what());
       }
@@ -214,6 +219,8 @@ void System::add_shells(Build& build) {
       try {
         elements_.push_back(
             std::make_unique<elements::DirectorShellElement>(nodes, q0, mat, model.gravity));
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& ex) {
         fail(S.source, fmt::format("{} element {}", what, e), ex.what());
       }
@@ -265,6 +272,8 @@ void System::add_body_loads(Build& build) {
         f = std::array<loads::TimeFunction, 3>{loads::TimeFunction((*e)[0]),
                                                loads::TimeFunction((*e)[1]),
                                                loads::TimeFunction((*e)[2])};
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& ex) {
         fail(L.source, what + "." + key, ex.what());
       }
@@ -295,6 +304,8 @@ void System::add_distributed_loads(Build& build) {
       try {
         for (int c = 0; c < 3; ++c)
           f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", D.force_per_length[c], w[k]));
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& ex) {
         fail(D.source, what + ".force_per_length", ex.what());
       }
@@ -323,6 +334,8 @@ void System::add_shell_loads(Build& build) {
       try {
         for (int c = 0; c < 3; ++c)
           f[c] = loads::TimeFunction(fmt::format("({})*{:.17g}", e[c], w(c)));
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& ex) {
         fail(L.source, what, ex.what());
       }
@@ -459,6 +472,8 @@ void System::add_shell_supports(Build& build) {
                                   std::make_shared<joints::DirectorSupport>(
                                       dn::Q(q0_.segment<6>(q_offset(p.node))), p.spec),
                                   p.source});
+      } catch (const std::bad_alloc&) {
+        throw;  // out of memory is not a model error (app/commands.cpp reports it)
       } catch (const std::exception& e) {
         fail(p.source, p.what, fmt::format("node {}: {}", node_names_[p.node], e.what()));
       }
