@@ -46,6 +46,14 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
       return std::nullopt;
     }
     if (o && o->statics) s.analysis = model::Analysis::statics;
+    // With --dt or --t-end the step count is checked again (the file's own values were checked
+    // by the reader, with their line).
+    if (o && (o->dt || o->t_end)) {
+      if (const std::string problem = model::step_count_problem(s); !problem.empty()) {
+        fmt::print(err, "error: --dt, --t-end: {}\n", problem);
+        return std::nullopt;
+      }
+    }
     l.sys = std::make_unique<system::System>(system::System::compile(l.model));
     return l;
   } catch (const io::ModelError& e) {
