@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every dependency of isoflex from Debian 12 packages (idempotent; run as root) and
 # builds the Release-with-assertions configuration into build/ (executable: build/isoflex).
+# `setup.sh --fuzz` installs clang and libFuzzer too (for the preset fuzz).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -10,6 +11,9 @@ packages=(g++ cmake ninja-build ccache pkg-config
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libtbb-dev libsuitesparse-dev
   libopenblas0-serial)
+# --fuzz: also clang and libFuzzer for the libFuzzer harnesses (preset fuzz, README
+# "Development"); the default setup and CI do not need them.
+if [[ ${1:-} == --fuzz ]]; then packages+=(clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

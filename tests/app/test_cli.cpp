@@ -131,6 +131,33 @@ TEST(Cli, BadModelsGiveLocatedErrorsAndExitCode2) {
   EXPECT_EQ(run("run " + f + " --formulation fancy").code, 2);
 }
 
+// A step count that cannot be run (issue #15, found by tests/fuzz): exit 2 with a located
+// message, nothing written. Before, dt: 1e-30 ran 0 steps (lround overflowed) and exited 0
+// "completed". The same for --dt/--t-end on the command line.
+TEST(Cli, StepCountOutOfRangeIsExitCode2) {
+  const fs::path d = temp_dir("steps");
+  const std::string f = (d / "m.yaml").string();
+  std::ofstream(f) << isoflex::test::pendulum_yaml("{dt: 1.0e-30, t_end: 0.2}");
+  auto r = run("run " + f + " -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: " + f + ":3: solver.t_end: t_end / dt = 0.2 / 1e-30"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(d / "out")) << "nothing is written for a bad model";
+  EXPECT_EQ(run("check " + f).code, 2);
+  std::ofstream(f) << kGood;
+  r = run("run " + f + " -o " + (d / "out").string() + " --dt 1e-30");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: --dt, --t-end: t_end / dt = 0.2 / 1e-30"), std::string::npos)
+      << r.out;
+  r = run("run " + f + " -o " + (d / "out").string() + " --t-end 0.001");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: --dt, --t-end: t_end = 0.001 is shorter than half a time step"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 // `check` lists the model's surfaces with their findings; a bad surface is a located error, exit 2.
 TEST(Cli, CheckListsSurfacesAndRejectsBadOnes) {
   const fs::path d = temp_dir("surfaces");

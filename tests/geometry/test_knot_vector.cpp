@@ -53,6 +53,15 @@ TEST(KnotVector, FindSpanEdgeCases) {
   EXPECT_EQ(k0.find_span(1.0), 1);
   EXPECT_EQ(k0.find_span(3.0), 2);
 
+  // An end knot repeated more than p + 1 times is not open: its extra basis function vanishes on
+  // the domain, and degree elevation wrote past its arrays on it (issue #15, found by
+  // fuzz/cad_patch_fuzzer.cpp).
+  EXPECT_FALSE(KnotVector(2, {0, 0, 0, 0, 0.5, 1, 1, 1}).is_open());
+  EXPECT_FALSE(KnotVector(2, {0, 0, 0, 0.5, 1, 1, 1, 1}).is_open());
+  EXPECT_FALSE(KnotVector(1, {0, 0, 0, 1, 1, 1}).is_open());
+  EXPECT_TRUE(KnotVector(1, {0, 0, 1, 1}).is_open());
+  EXPECT_TRUE(KnotVector(0, {0, 1}).is_open());
+
   // Non-open knot vector: domain [knots[p], knots[n]] = [2, 4].
   const KnotVector kn(2, {0, 1, 2, 3, 4, 5, 6});
   EXPECT_FALSE(kn.is_open());

@@ -355,6 +355,16 @@ TEST(Refinement, InvalidInputThrowsWithClearMessage) {
   const NurbsSurface s = random_surface(g, 2, 2, true);
   EXPECT_NE(message_of([&] { insert_knot(s, Direction::v, 2.0); }).find("not strictly inside"),
             std::string::npos);
+  // A 4-fold start knot at degree 2 is refused, not elevated past the ends of the arrays
+  // (issue #15, found by fuzz/cad_patch_fuzzer.cpp: an ASan heap-buffer-overflow before).
+  NurbsCurve extra = c;
+  extra.knots = KnotVector(2, {0, 0, 0, 0, 0.5, 1, 1, 1});
+  for (const Vec3& x : {Vec3(1, 2, 3), Vec3(2, 0, 1)}) {  // 5 control points for 8 knots
+    extra.points.push_back(x);
+    extra.weights.push_back(1.0);
+  }
+  EXPECT_NE(message_of([&] { elevate_degree(extra, 1); }).find("open knot vector"),
+            std::string::npos);
   // Elevation with a knot of multiplicity p + 1 inside (a discontinuous curve) is refused.
   NurbsCurve disc;
   disc.knots = KnotVector(1, {0, 0, 0.5, 0.5, 1, 1});

@@ -283,6 +283,31 @@ TEST(ModelReader, MissingRequiredKey) {
             "m.yaml:7: loads[0]: at least one of force and moment is required");
 }
 
+// The step count t_end / dt (issue #15, found by tests/fuzz): more than 10⁸ steps, or a dynamic
+// run without a step, is a located error. Before, dt: 1e-30 ran 0 steps (lround overflowed) and
+// reported "completed", and t_end: 1e12 wrapped around int into a run of hundreds of millions of
+// steps.
+TEST(ModelReader, StepCountOfDtAndTEnd) {
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 1e-30", "  t_end: 1"})),
+            "m.yaml:8: solver.t_end: t_end / dt = 1 / 1e-30 = 1e+30 time steps, at most 1e+08 "
+            "(history.csv has a row per step)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  t_end: 1e12"})),
+            "m.yaml:7: solver.t_end: t_end / dt = 1e+12 / 0.01 = 1e+14 time steps, at most 1e+08 "
+            "(history.csv has a row per step)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 1e-300"})),
+            "m.yaml:7: solver.dt: t_end / dt = 1 / 1e-300 = 1e+300 time steps, at most 1e+08 "
+            "(history.csv has a row per step)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  t_end: 0.01"})),
+            "m.yaml:8: solver.t_end: t_end = 0.01 is shorter than half a time step (dt = 0.1): "
+            "the run would take no step");
+  // A static analysis takes at least one load step; 10⁸ steps are allowed.
+  EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 1, t_end: 0.1}"})), "(no error)");
+  EXPECT_EQ(error_of(with_bodies({"solver: {dt: 1e-8, t_end: 1}"})), "(no error)");
+  EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 1, t_end: 2e8}"})),
+            "m.yaml:6: solver.t_end: t_end / dt = 2e+08 / 1 = 2e+08 load steps, at most 1e+08 "
+            "(history.csv has a row per step)");
+}
+
 TEST(ModelReader, UnknownKey) {
   EXPECT_EQ(error_of(with_bodies({"    colour: red"})),
             "m.yaml:6: bodies[0].colour: unknown key (valid keys: name, mass, inertia, position, "

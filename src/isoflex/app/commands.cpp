@@ -82,6 +82,14 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
       return std::nullopt;
     }
     if (o && o->statics) s.analysis = model::Analysis::statics;
+    // With --dt or --t-end the step count is checked again (the file's own values were checked
+    // by the reader, with their line).
+    if (o && (o->dt || o->t_end)) {
+      if (const std::string problem = model::step_count_problem(s); !problem.empty()) {
+        fmt::print(err, "error: --dt, --t-end: {}\n", problem);
+        return std::nullopt;
+      }
+    }
     // Before anything of the model's size is allocated (System::compile).
     l.memory = system::estimate_memory(l.model);
     estimate = l.memory.total();

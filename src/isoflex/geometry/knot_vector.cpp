@@ -31,7 +31,11 @@ bool KnotVector::is_open() const {
   const auto n = knots_.size();
   for (int i = 0; i < p_; ++i)
     if (knots_[i] != knots_[p_] || knots_[n - 1 - i] != knots_[n - 1 - p_]) return false;
-  return true;
+  // Exactly p + 1: a (p + 2)-fold end knot adds a basis function that vanishes on the whole
+  // domain, and degree elevation (The NURBS Book A5.9) assumes p + 1 (it wrote past its arrays
+  // on 0, 0, 0, 0, … with p = 2; found by fuzz/cad_patch_fuzzer.cpp). knots_[p + 1] and
+  // knots_[n − p − 2] exist: there are at least 2(p + 1) knots.
+  return knots_[p_ + 1] > knots_[p_] && knots_[n - 2 - p_] < knots_[n - 1 - p_];
 }
 
 int KnotVector::find_span(double u) const {

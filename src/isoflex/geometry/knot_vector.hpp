@@ -1,7 +1,8 @@
 #pragma once
 // Knot vectors of B-splines and NURBS (IGA-thesis §4.1): non-decreasing knots, degree p,
-// n = size − p − 1 basis functions. Open (p+1-fold end knots) vectors are what CAD writes and
-// what analysis needs; non-open vectors are accepted by the kernel but reported by is_open().
+// n = size − p − 1 basis functions. Open (exactly p+1-fold end knots) vectors are what CAD writes
+// and what analysis needs; non-open vectors are accepted by the kernel but reported by
+// is_open() (a more than p+1-fold end knot gives a basis function that is zero on the domain).
 #include <vector>
 
 namespace isoflex::geometry {

@@ -214,6 +214,11 @@ class Reader : YamlFields {
       s.max_subdivisions = integer(v, "solver.max_subdivisions", 0);
       if (s.max_subdivisions > 20) fail(v, "solver.max_subdivisions", "at most 20 (Δt/2²⁰)");
     }
+    // The step count of the file's own dt and t_end (command-line overrides: app load()).
+    if (const std::string problem = model::step_count_problem(s); !problem.empty()) {
+      if (const auto v = n["t_end"]) fail(v, "solver.t_end", problem);
+      fail(n["dt"], "solver.dt", problem);  // the default t_end: dt is the one given
+    }
   }
 
   void read_output(const YAML::Node& n, model::Output& o) const {

@@ -503,8 +503,10 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
         {"n_vm", [](const E& e) { return von_mises(e.n); }},
         {"m_vm", [](const E& e) { return von_mises(e.m); }},
     };
-    for (const auto& [name, value] : scalars) {
-      append_shell_cell_scalar(out, "Float64", name, n_other, "0", els.size(),
+    // Not a structured binding: clang 14 (the preset fuzz) cannot capture one in a lambda.
+    for (const auto& scalar : scalars) {
+      const auto& value = scalar.second;
+      append_shell_cell_scalar(out, "Float64", scalar.first, n_other, "0", els.size(),
                                [&](std::size_t k) { append_real(out, value(els[k])); });
     }
   }

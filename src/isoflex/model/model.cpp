@@ -1,5 +1,8 @@
 #include "isoflex/model/model.hpp"
 
+#include <cmath>
+#include <cstdio>
+
 namespace isoflex::model {
 
 namespace {
@@ -73,6 +76,27 @@ std::optional<Integrator> integrator_from_string(const std::string& s) {
                              Integrator::bdf1, Integrator::bdf2})
     if (s == to_string(i)) return i;
   return std::nullopt;
+}
+
+std::string step_count_problem(const Solver& s) {
+  // snprintf, not fmt: the model room depends on math and geometry only.
+  char text[256];
+  const double steps = std::round(s.t_end / s.dt);
+  const char* kind = s.analysis == Analysis::statics ? "load steps" : "time steps";
+  if (!(steps <= kMaxSteps)) {
+    std::snprintf(text, sizeof text,
+                  "t_end / dt = %g / %g = %.3g %s, at most %.0e (history.csv has a row per step)",
+                  s.t_end, s.dt, s.t_end / s.dt, kind, kMaxSteps);
+    return text;
+  }
+  if (s.analysis == Analysis::dynamic && !(steps >= 1)) {
+    std::snprintf(text, sizeof text,
+                  "t_end = %g is shorter than half a time step (dt = %g): the run would take no "
+                  "step",
+                  s.t_end, s.dt);
+    return text;
+  }
+  return "";
 }
 
 }  // namespace isoflex::model

@@ -374,6 +374,16 @@ const char* to_string(Formulation f);
 std::optional<Formulation> formulation_from_string(const std::string& s);
 const char* to_string(Integrator i);
 std::optional<Integrator> integrator_from_string(const std::string& s);
+
+// At most this many steps (time steps, or load steps of a static analysis) in a run: a run
+// writes a row of history.csv per step (≈ 200 bytes), so 10⁸ steps are already ≈ 20 GB; beyond
+// the int range the step count would not even be representable.
+inline constexpr double kMaxSteps = 1e8;
+
+// What is wrong with the number of steps t_end / dt (rounded) of `s`, "" if nothing: more than
+// kMaxSteps, or, in a dynamic analysis, no step at all (t_end < dt / 2; a static analysis takes
+// at least one load step). dt and t_end are > 0.
+std::string step_count_problem(const Solver& s);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
 
