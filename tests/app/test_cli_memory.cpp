@@ -14,31 +14,20 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/system/memory_estimate.hpp"
 #include "support/cli.hpp"
+#include "support/examples.hpp"
 #include "support/files.hpp"
 
 namespace fs = std::filesystem;
 
 // AddressSanitizer reserves terabytes of shadow address space: no address-space limit under it
 // (GCC defines __SANITIZE_ADDRESS__, clang has __has_feature(address_sanitizer)).
-#if defined(__SANITIZE_ADDRESS__)
-#define ISOFLEX_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ISOFLEX_TEST_ASAN 1
-#endif
-#endif
+#include "support/sanitizers.hpp"
 
 namespace {
 using isoflex::test::read_text;
 using isoflex::test::run_isoflex;
 
 const std::string kExamples = ISOFLEX_SOURCE_DIR "/examples/";
-
-std::string with(std::string text, const std::string& from, const std::string& to) {
-  const auto p = text.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  return p == std::string::npos ? text : text.replace(p, from.size(), to);
-}
 
 fs::path model_file(const isoflex::test::TempDir& d, const std::string& name,
                     const std::string& text) {
@@ -58,14 +47,14 @@ bool contains(const std::string& text, const std::string& part) {
 // The free-flying beam with 10⁶ elements: the reader accepts it (up to 10⁷), `check` took 5.5 GB
 // and `run` ended in an uncaught std::bad_alloc.
 std::string million_beam_elements() {
-  return with(read_text(kExamples + "free_flying_beam/model.yaml"), "elements: 6 ",
-              "elements: 1000000 ");
+  return isoflex::test::replaced(read_text(kExamples + "free_flying_beam/model.yaml"),
+                                 "elements: 6 ", "elements: 1000000 ");
 }
 
 // The Scordelis–Lo roof (Kirchhoff–Love) refined to 300 × 300 knot spans: 4.3 GB in `check`.
 std::string roof_300() {
-  return with(read_text(kExamples + "scordelis_lo/kl_shell.yaml"), "knots_per_span: [3, 3]",
-              "knots_per_span: [300, 300]");
+  return isoflex::test::replaced(read_text(kExamples + "scordelis_lo/kl_shell.yaml"),
+                                 "knots_per_span: [3, 3]", "knots_per_span: [300, 300]");
 }
 
 // The line of `key` in `text` (1-based).
@@ -115,8 +104,9 @@ TEST(CliMemory, CheckRefusesAFineKirchhoffLovePatch) {
 // limit is checked there, at the key.
 TEST(CliMemory, ReaderRefusesAHugeShellMeshBeforeBuildingIt) {
   const auto d = temp("plate");
-  const std::string text = with(read_text(kExamples + "intersecting_shells/model.yaml"),
-                                "elements: [10, 1]", "elements: [10000, 10000]");
+  const std::string text =
+      isoflex::test::replaced(read_text(kExamples + "intersecting_shells/model.yaml"),
+                              "elements: [10, 1]", "elements: [10000, 10000]");
   const fs::path m = model_file(d, "m.yaml", text);
   const auto c = run_isoflex("check " + m.string() + " --max-memory 2G");
   EXPECT_EQ(c.code, 2) << c.out;

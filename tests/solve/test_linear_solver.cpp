@@ -14,13 +14,7 @@ using namespace isoflex;
 
 // AddressSanitizer reserves terabytes of shadow address space: no address-space limit under it
 // (GCC defines __SANITIZE_ADDRESS__, clang has __has_feature(address_sanitizer)).
-#if defined(__SANITIZE_ADDRESS__)
-#define ISOFLEX_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ISOFLEX_TEST_ASAN 1
-#endif
-#endif
+#include "support/sanitizers.hpp"
 using solve::SpMat;
 
 namespace {
