@@ -12,6 +12,7 @@
 #include "isoflex/io/cad/cad_reader.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/model_errors.hpp"
+#include "support/sanitizers.hpp"
 
 using namespace isoflex;
 
@@ -123,6 +124,10 @@ TEST(CadMalformed, NonPositiveWeightsAreLocatedErrors) {
 
 // A count of 2·10⁹ control points: the message was only "std::bad_alloc".
 TEST(CadMalformed, OutOfMemorySaysWhatWasRead) {
+#if defined(ISOFLEX_TEST_ASAN)
+  // ASan's throwing operator new cannot throw: a failed 48 GB request aborts the reading child.
+  GTEST_SKIP() << "operator new aborts instead of throwing std::bad_alloc under AddressSanitizer";
+#endif
   const std::string m = cad_error(kBad + "iges_128_count_2e9.igs");
   EXPECT_EQ(m.rfind("out of memory (std::bad_alloc) while parsing the IGES file", 0), 0u) << m;
 }

@@ -578,6 +578,48 @@ TEST(CadChecks, CollapsedEdge) {
   EXPECT_TRUE(has(f, Severity::warning, "collapsed edge at v = 1"));
 }
 
+// Found by fuzzing (#15): a subnormal domain evaluates to NaN, a domain of 1 at 1e10 keeps 6
+// digits of its knot differences, weights of 1e-317 lose theirs in refinement.
+TEST(CadChecks, NumbersADoubleCannotCarry) {
+  auto domain = [](std::vector<double> knots) {
+    auto s = biquadratic();
+    s.u = geometry::KnotVector(2, std::move(knots));
+    return io::check_patch(patch_of(s));
+  };
+  const double tiny = 5e-315;
+  auto f = domain({0, 0, 0, tiny, tiny, tiny});
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_TRUE(has(f, Severity::error, "the parameter domain in u is [0, 5e-315]: too small"))
+      << f[0].issue;
+  f = domain({1e10, 1e10, 1e10, 1e10 + 1, 1e10 + 1, 1e10 + 1});
+  EXPECT_TRUE(has(f, Severity::error, "the parameter domain in u is [1e+10, 1e+10]"));
+  EXPECT_TRUE(domain({0, 0, 0, 1e6, 1e6, 1e6}).empty());  // any domain of sound numbers is fine
+
+  auto s = biquadratic();  // a span 1e-9 of the domain
+  s.v = geometry::KnotVector(2, {0, 0, 0, 0.5, 0.5 + 1e-9, 1, 1, 1});
+  s.points.clear();
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 3; ++i) s.points.emplace_back(0.5 * i, 0.25 * j, 0.0);
+  s.weights.assign(15, 1.0);
+  f = io::check_patch(patch_of(s));
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_TRUE(has(f, Severity::warning, "a knot span in v is 1e-09 of the parameter domain"))
+      << f[0].issue;
+
+  auto weights = [](double w) {
+    auto s = biquadratic();
+    s.weights[4] = w;
+    return io::check_patch(patch_of(s));
+  };
+  f = weights(1e-317);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_TRUE(has(f, Severity::error, "weights from 1e-317 to 1: the homogeneous coordinates"))
+      << f[0].issue;
+  EXPECT_TRUE(has(weights(1e200), Severity::error, "weights from 1 to 1e+200"));
+  EXPECT_TRUE(has(weights(1e-9), Severity::warning, "weights from 1e-09 to 1 (ratio 1.0e+09)"));
+  EXPECT_TRUE(weights(1e-3).empty());
+}
+
 // --- Errors --------------------------------------------------------------------------------------
 
 // what() of the CadError thrown for `file`, checked to be one line naming the file.

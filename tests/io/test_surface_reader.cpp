@@ -390,6 +390,10 @@ TEST(SurfaceReader, RefineAndPlacementErrors) {
   EXPECT_EQ(refine("{elevate: [0, 9]}"),
             "m.yaml:9: surfaces[0].refine.elevate[1]: degree 2 + 9 in v is above the maximum "
             "degree 10");
+  // 2 + INT_MAX overflowed int before the check (found by UBSan on a fuzzed file).
+  EXPECT_EQ(refine("{elevate: [2, 2147483647]}"),
+            "m.yaml:9: surfaces[0].refine.elevate[1]: degree 2 + 2147483647 in v is above the "
+            "maximum degree 10");
   EXPECT_EQ(refine("{knots_per_span: [1.5, 0]}"),
             "m.yaml:9: surfaces[0].refine.knots_per_span[0]: expected an integer");
   EXPECT_EQ(refine("{knots_per_span: [0, -2]}"),

@@ -281,7 +281,7 @@ class SurfaceReader : YamlFields {
     for (std::size_t d = 0; d < 2; ++d) {
       const int deg = kv[d]->degree(), t = s.refine.elevate[d];
       if (t > 0) {
-        if (deg + t > geometry::kMaxDegree)
+        if (t > geometry::kMaxDegree - deg)
           fail(elevate[d], indexed(elevate_key, d),
                fmt::format("degree {} + {} in {} is above the maximum degree {}", deg, t,
                            direction_name(d), geometry::kMaxDegree));

@@ -108,6 +108,53 @@ void check_collapsed_edges(const geometry::NurbsSurface& s, std::vector<Finding>
                  "remodel the region with four-sided patches that have no degenerate edge"});
 }
 
+// Numbers a double cannot carry through the basis and its second derivatives: a parameter domain
+// that is tiny (absolutely, or relative to the size of its knots: the knot differences of the
+// Cox–de Boor quotients keep few digits, a subnormal domain gives NaN), knot spans tiny against
+// the domain (the basis derivatives scale like 1/h, 1/h²), and weights whose products w·x in the
+// homogeneous coordinates of refinement overflow or lose their digits.
+void check_numbers(const geometry::NurbsSurface& s, std::vector<Finding>& out) {
+  for (const auto& [kv, dir] : {std::pair{&s.u, "u"}, std::pair{&s.v, "v"}}) {
+    const double a = kv->front(), b = kv->back(), w = b - a;
+    const double size = std::max(std::abs(a), std::abs(b));
+    if (!(w > 1e-100) || !(w > 1e-8 * size) || !(size < 1e100)) {
+      out.push_back({Severity::error,
+                     fmt::format("the parameter domain in {} is [{:g}, {:g}]: too small (or too "
+                                 "far from 0) for the basis to be evaluated in double precision",
+                                 dir, a, b),
+                     fmt::format("re-export the surface with the parameter range of {} "
+                                 "normalized, e.g. to [0, 1]",
+                                 dir)});
+      continue;
+    }
+    double h_min = w;
+    for (std::size_t k = 1; k < kv->knots().size(); ++k)
+      if (const double h = kv->knots()[k] - kv->knots()[k - 1]; h > 0) h_min = std::min(h_min, h);
+    if (h_min < 1e-8 * w)
+      out.push_back({Severity::warning,
+                     fmt::format("a knot span in {} is {:g} of the parameter domain: the basis "
+                                 "and its derivatives are ill-conditioned there",
+                                 dir, h_min / w),
+                     "remove the nearly repeated knot (knot removal in the CAD tool) or make it "
+                     "an exact repeated knot"});
+  }
+  const auto [lo, hi] = std::minmax_element(s.weights.begin(), s.weights.end());
+  if (lo == s.weights.end() || !(*lo > 0) || !std::isfinite(*hi)) return;  // reported below
+  if (*lo < 1e-100 || *hi > 1e100)
+    out.push_back({Severity::error,
+                   fmt::format("weights from {:g} to {:g}: the homogeneous coordinates w·x "
+                               "overflow or lose their digits",
+                               *lo, *hi),
+                   "re-export the surface with weights scaled to about 1 (a NURBS surface is "
+                   "unchanged when all its weights are multiplied by one factor)"});
+  else if (*hi > 1e8 * *lo)
+    out.push_back({Severity::warning,
+                   fmt::format("weights from {:g} to {:g} (ratio {:.1e}): the rational basis is "
+                               "ill-conditioned",
+                               *lo, *hi, *hi / *lo),
+                   "re-export the surface with a better-conditioned parametrization"});
+}
+
 }  // namespace
 
 std::vector<Finding> check_patch(const CadPatch& patch) {
@@ -122,6 +169,7 @@ std::vector<Finding> check_patch(const CadPatch& patch) {
   check_direction(s.u, "u", out);
   check_direction(s.v, "v", out);
   check_collapsed_edges(s, out);
+  check_numbers(s, out);
   if (patch.reversed_orientation)
     out.push_back({Severity::warning,
                    "the face is reversed: its normal is −(x_u × x_v), the parameter domain is "
