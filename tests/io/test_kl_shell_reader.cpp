@@ -57,6 +57,7 @@ TEST(KLShellReader, ReadsShellsSupportsLoadsAndProbes) {
   EXPECT_EQ(s.nu, 0.3);
   EXPECT_EQ(s.thickness, 0.01);
   EXPECT_EQ(s.density, 10);
+  EXPECT_EQ(s.eta, 0.0);  // no material damping unless given
   EXPECT_EQ(s.quadrature[0], 4);
   EXPECT_EQ(s.quadrature[1], 5);
   ASSERT_EQ(m.kl_supports.size(), 4u);
@@ -117,6 +118,16 @@ TEST(KLShellReader, LocatedErrors) {
       << degree1;
   EXPECT_EQ(error_of(kl_model("    material: {E: 1, nu: 0.5, thickness: 1}\n")),
             "m.yaml:13: kl_shells[0].material: duplicate key (first at line 12)");
+  // The Kelvin–Voigt damping factor (IGA-thesis (3.51)).
+  EXPECT_EQ(io::read_model_string(kl_model("  - name: s2\n    surface: cyl\n    material: {E: 1, "
+                                           "nu: 0, thickness: 0.1, eta: 0.25}\n"),
+                                  "m.yaml")
+                .kl_shells[1]
+                .eta,
+            0.25);
+  EXPECT_EQ(error_of(kl_model("  - name: s2\n    surface: cyl\n    material: {E: 1, nu: 0, "
+                              "thickness: 0.1, eta: -1}\n")),
+            "m.yaml:15: kl_shells[1].material.eta: the damping factor η must be >= 0 (seconds)");
   EXPECT_EQ(error_of(kl_model("kl_supports:\n  - {shell: roof, edge: u2, fixed: all}\n")),
             "m.yaml:14: kl_supports[0].edge: unknown edge \"u2\" (expected u0, u1, v0 or v1)");
   EXPECT_EQ(error_of(kl_model("kl_supports:\n  - {shell: roof, edge: u0}\n")),

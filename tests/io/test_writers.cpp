@@ -1008,7 +1008,7 @@ TEST(VtuSupport, XmlErrorFindsMalformedXml) {
 TEST(HistoryWriter, HeaderAndOneRowPerSnapshot) {
   TempDir dir;
   {
-    io::HistoryWriter w(dir.path());
+    io::HistoryWriter w(dir.path(), false);
     for (int k = 0; k < 3; ++k) {
       w.on_snapshot(snapshot(k, 0.1 * k));
       // flushed after every row
@@ -1036,6 +1036,26 @@ TEST(HistoryWriter, HeaderAndOneRowPerSnapshot) {
   EXPECT_EQ(row[10], s.constraint_violation);
   EXPECT_EQ(row[11], 3.0);
   EXPECT_EQ(row[12], s.residual);
+}
+
+// A model with material damping: the work of the viscous forces in a last column.
+TEST(HistoryWriter, DissipatedEnergyColumn) {
+  TempDir dir;
+  {
+    io::HistoryWriter w(dir.path(), true);
+    auto s = snapshot(1, 0.1);
+    s.dissipated_energy = 0.1234567890123456789;
+    w.on_snapshot(s);
+    w.on_finish();
+  }
+  const auto lines = read_lines(dir.path() / "history.csv");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0],
+            "t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,"
+            "constraint_violation,newton_iterations,residual,dissipated_energy");
+  const std::size_t comma = lines[1].rfind(',');
+  EXPECT_EQ(std::stod(lines[1].substr(comma + 1)), 0.1234567890123456789);
+  EXPECT_EQ(std::count(lines[1].begin(), lines[1].end(), ','), 13);
 }
 
 TEST(HistoryWriter, ProbeRows) {

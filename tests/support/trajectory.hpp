@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/integrate/time_integrator.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::test {
@@ -34,6 +35,21 @@ inline std::vector<double> successive_ratios(const std::vector<Vec3>& at) {
   std::vector<double> r;
   for (std::size_t i = 0; i + 2 < at.size(); ++i)
     r.push_back((at[i] - at[i + 1]).norm() / (at[i + 1] - at[i + 2]).norm());
+  return r;
+}
+
+// Runs m (t_end / dt steps) with the integrator its solver names (make_time_integrator).
+inline Trajectory simulate(const model::Model& m) {
+  const auto sys = system::System::compile(m);
+  const auto integ = integrate::make_time_integrator(sys, m.solver);
+  auto state = integ->initial_state();
+  Trajectory r;
+  r.unknowns = integ->unknowns();
+  const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
+  for (int i = 0; i <= steps; ++i) {
+    const auto st = i == 0 ? integrate::StepStats{} : integ->step(state);
+    r.snapshots.push_back(integrate::snapshot(sys, state, st, {}));
+  }
   return r;
 }
 

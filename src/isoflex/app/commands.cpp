@@ -437,9 +437,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)
-      sum.max_energy_drift_after_loads = std::max(
-          sum.max_energy_drift_after_loads, std::abs(snap.total_energy - sum.energy_initial) /
-                                                std::max(std::abs(sum.energy_initial), 1e-300));
+      sum.max_energy_drift_after_loads =
+          std::max(sum.max_energy_drift_after_loads,
+                   std::abs(snap.total_energy + snap.dissipated_energy - sum.energy_initial) /
+                       std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
     throw_if_interrupted();
   };

@@ -25,6 +25,10 @@ VecX Element::gradient_in_pattern(const VecX& q, double* values) const {
   return g;
 }
 
+VecX Element::viscous_force_in_pattern(const VecX& q, const VecX&, double, double, double*) const {
+  return VecX::Zero(q.size());
+}
+
 SpMat Element::sparse_mass() const {
   return mass().sparseView(0.0, 0.0);
 }

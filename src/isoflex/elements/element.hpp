@@ -46,6 +46,15 @@ class Element {
   virtual VecX gradient_in_pattern(const VecX& q, double* values) const;
   // The mass matrix without its zero entries (computed once by the system).
   virtual SpMat sparse_mass() const;
+
+  // --- Viscous forces (Kelvin–Voigt, IGA-thesis §3.5) -------------------------------------------
+  // Whether the element has forces f_v(q, q̇) that dissipate, linear in the velocity q̇ (its
+  // coordinates' time derivatives). Default: none.
+  virtual bool viscous() const { return false; }
+  // f_v(q, q̇); when values is not null, cq ∂f_v/∂q + cv ∂f_v/∂q̇ is added to it (pattern order).
+  // Default: zero.
+  virtual VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
+                                        double* values) const;
 };
 
 }  // namespace isoflex::elements

@@ -36,6 +36,12 @@ class KLPatchElement final : public Element {
   // in its arguments).
   VecX gradient_in_pattern(const VecX& q, double* values) const override;
   SpMat sparse_mass() const override { return patch_->mass(); }
+  // Kelvin–Voigt forces of the material's η (KLShellPatch::viscous_force_into).
+  bool viscous() const override { return patch_->section().eta > 0.0; }
+  VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
+                                double* values) const override {
+    return patch_->viscous_force_into(q, qdot, kinematics_, cq, cv, values);
+  }
 
  private:
   std::shared_ptr<const KLShellPatch> patch_;

@@ -15,9 +15,10 @@ namespace isoflex::elements {
 
 namespace {
 
-using LocalVector =
-    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kl::kMaxFunctions, 1>;
-using Ops = Vec<3 * kl::kDerivatives>;  // a vector in the derivative space of B_k = Σ_i ρ_i(k) E_i
+using kl::LocalVector;
+using Ops = kl::Derivatives;
+using kl::gather_derivatives;
+using kl::spread;
 
 // The correction is dropped (c = 0) when w·w ≤ kSize² p·p + kMotion² Δx·Δx (p: the midpoint
 // control points about their centroid): the increment is rigid to 10⁻⁸ of the element's size, or
@@ -25,22 +26,6 @@ using Ops = Vec<3 * kl::kDerivatives>;  // a vector in the derivative space of B
 // be the round-off of N divided by a tiny w·w, while dropping it costs an energy error ∝ |w|
 // (kl-shell.md §10: the measured balance).
 constexpr double kSize2 = 1e-16, kMotion2 = 1e-24;
-
-// v += Σ_i ρ_i(k) f_i for every local function k: B_kᵀ S from E_iᵀ S (kl-shell.md §5).
-void spread(const kl::BasisView& R, const Ops& f, LocalVector& v) {
-  for (int k = 0; k < R.n; ++k)
-    v.segment<3>(3 * k) += R(1, k) * f.segment<3>(0) + R(2, k) * f.segment<3>(3) +
-                           R(3, k) * f.segment<3>(6) + R(4, k) * f.segment<3>(9) +
-                           R(5, k) * f.segment<3>(12);
-}
-
-// (Σ_k ρ_i(k) d_k)_i: the increments of a_ξ, a_η, a_ξξ, a_ξη, a_ηη, so that B d = E · (this).
-Ops gather_derivatives(const kl::BasisView& R, const kl::LocalPoints& d) {
-  Ops du = Ops::Zero();
-  for (int k = 0; k < R.n; ++k)
-    for (int i = 0; i < kl::kDerivatives; ++i) du.segment<3>(3 * i) += R(1 + i, k) * d.col(k);
-  return du;
-}
 
 // The midpoint-rule defect of the bending strains, N = E^f(x₁) − E^f(x₀) − ∇E^f(x_{n+½})Δx
 // = O(|Δx|³), from the midpoint point cm and the increments du = (Δa_ξ, Δa_η, Δa_ξξ, Δa_ξη,
@@ -244,20 +229,7 @@ VecX KLShellPatch::discrete_gradient_into(const VecX& xn, const VecX& xn1, KLKin
               Ke(9 * l + i + 3 * cc, k) +=
                   Gamma * dW(3 * k + i, 3 * l + cc) + wv(3 * k + i) * wk.grow(3 * l + cc);
     }
-    // Scatter every block (the matrix is not symmetric) by the precomputed positions.
-    double* val = values;
-    for (int l = 0; l < nf; ++l) {
-      const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * nf + l) * nf;
-      const int stride = m.col_nnz[cn[l]];
-      for (int cc = 0; cc < 3; ++cc) {
-        double* col = val + cc * stride;
-        for (int k = 0; k < nf; ++k) {
-          const double* src = &Ke(9 * l + 3 * cc, k);
-          double* dst = col + bp[k];
-          for (int i = 0; i < 3; ++i) dst[i] += src[i];
-        }
-      }
-    }
+    m.scatter_full(e, Ke, values);
   });
   return r;
 }

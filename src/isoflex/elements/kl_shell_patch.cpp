@@ -24,9 +24,7 @@ namespace {
   throw std::invalid_argument("KLShellPatch: " + msg);
 }
 
-// Local residual of one element, 3n ≤ 108 entries.
-using LocalVector =
-    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kl::kMaxFunctions, 1>;
+using kl::LocalVector;
 
 // What one thread of internal_force works in.
 struct ElementWork {
@@ -282,6 +280,22 @@ void KLShellPatch::Impl::adopt_pattern(SpMat& K) const {
   if (!has_pattern(K, pattern)) K = pattern;
 }
 
+void KLShellPatch::Impl::scatter_full(int e, const MatX& Ke, double* values) const {
+  const int* cn = conn.data() + static_cast<std::size_t>(e) * n_fun;
+  for (int l = 0; l < n_fun; ++l) {
+    const int* bp = block_pos.data() + (static_cast<std::size_t>(e) * n_fun + l) * n_fun;
+    const int stride = col_nnz[cn[l]];
+    for (int cc = 0; cc < 3; ++cc) {
+      double* col = values + cc * stride;
+      for (int k = 0; k < n_fun; ++k) {
+        const double* src = &Ke(9 * l + 3 * cc, k);
+        double* dst = col + bp[k];
+        for (int i = 0; i < 3; ++i) dst[i] += src[i];
+      }
+    }
+  }
+}
+
 VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) const {
   if (!K) return internal_force_into(x, kin, nullptr);
   impl_->adopt_pattern(*K);
@@ -344,11 +358,7 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
       if (linear) {
         // r = K_lin (x − X), K_lin = ∫ B(X)ᵀ D B(X) dA (kl-shell.md §3): the strains
         // B(X) u = Σ_i E_i Σ_k ρ_i(k) u_k.
-        Vec<3 * kl::kDerivatives> du = Vec<3 * kl::kDerivatives>::Zero();
-        for (int k = 0; k < nf; ++k)
-          for (int i = 0; i < kl::kDerivatives; ++i)
-            du.segment<3>(3 * i) += R(1 + i, k) * xl.col(k);
-        const Vec<6> Eu = E * du;
+        const Vec<6> Eu = E * kl::gather_derivatives(R, xl);
         s.n = t * (ref.C * Eu.head<3>());
         s.m = tb * (ref.C * Eu.tail<3>());
       } else {
@@ -372,11 +382,7 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
       Vec<6> S;
       S << s.n, s.m;
       S *= ref.dA;
-      const Vec<3 * kl::kDerivatives> f = E.transpose() * S;
-      for (int k = 0; k < nf; ++k)
-        re.segment<3>(3 * k) += R(1, k) * f.segment<3>(0) + R(2, k) * f.segment<3>(3) +
-                                R(3, k) * f.segment<3>(6) + R(4, k) * f.segment<3>(9) +
-                                R(5, k) * f.segment<3>(12);
+      kl::spread(R, E.transpose() * S, re);
     }
     const int* c = m.conn.data() + static_cast<std::size_t>(e) * nf;
     for (int k = 0; k < nf; ++k) r.segment<3>(3 * c[k]) += re.segment<3>(3 * k);

@@ -26,6 +26,8 @@ struct KLShellSection {
   double poisson = 0.0;
   double thickness = 0.0;
   double density = 0.0;  // mass per volume (mass matrix, self-weight)
+  // Kelvin–Voigt damping factor η (time): viscous stresses S_v = η C Ė (IGA-thesis (3.51)–(3.52)).
+  double eta = 0.0;
 };
 
 // nonlinear: Green–Lagrange strains (3.9)–(3.12). linear: the strains linearized about the
@@ -99,6 +101,15 @@ class KLShellPatch {
   // The same with ∂DV/∂xₙ₊₁ written straight into `values` (as internal_force's).
   VecX discrete_gradient_into(const VecX& xn, const VecX& xn1, KLKinematics kin,
                               double* values) const;
+  // The Kelvin–Voigt viscous force of IGA-thesis (3.55), f_v = ∫ Bᵀ S_v dA with S_v = η D Ė,
+  // Ė = B(x) ẋ (3.52)–(3.54), i.e. f_v = η K_mat(x) ẋ with K_mat the material part of the tangent;
+  // for KLKinematics::linear B = B(X), f_v = η K_lin ẋ. If values is not null it receives
+  // cx ∂f_v/∂x + cv ∂f_v/∂ẋ (added to what is there, pattern order; NOT symmetric): the time
+  // integrators combine both, e.g. ½ and 1/Δt at the midpoint x_{n+½}, ẋ = Δx/Δt. ∂f_v/∂ẋ is
+  // the damping matrix of the thesis, ∂f_v/∂x its "j" part with Ė_*,v (kl-shell.md §11).
+  // Zero when η = 0. Throws like internal_force for a wrong size or non-finite entries.
+  VecX viscous_force_into(const VecX& x, const VecX& xdot, KLKinematics kin, double cx, double cv,
+                          double* values) const;
   // Threads of internal_force and discrete_gradient (1 by default; fewer than asked on small
   // patches, ~2000 quadrature points per thread at least). The elements run in coloured blocks in a
   // fixed order (coloured_element_loop.hpp), so r and K are the same bit for bit for any number of

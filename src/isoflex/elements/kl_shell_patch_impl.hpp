@@ -45,6 +45,10 @@ struct KLShellPatch::Impl {
   // Gives K the fixed pattern: keeps it if K already has it (same size, compressed, same outer
   // index), else replaces it by a copy of `pattern`. Values are left as they are.
   void adopt_pattern(SpMat& K) const;
+  // values += the matrix Ke of element e with every block (a matrix that is not symmetric; block
+  // (k, l) column-major in rows 9l … 9l + 8 of column k, kl::element_tangent_full), scattered by
+  // the precomputed positions.
+  void scatter_full(int e, const MatX& Ke, double* values) const;
   // The basis of quadrature point g of an element, as the point kernel reads it.
   static kl::BasisView view(const geometry::ElementBasis& eb, int g) {
     return {eb.values.data() + 6 * static_cast<std::ptrdiff_t>(eb.row_stride) * g, eb.n_functions,

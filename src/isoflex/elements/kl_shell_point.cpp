@@ -209,6 +209,20 @@ void add_geometric_tangent(const CurrentPoint& cur, const NormalFactors& nf, con
     }
 }
 
+Derivatives gather_derivatives(const BasisView& R, const LocalPoints& d) {
+  Derivatives du = Derivatives::Zero();
+  for (int k = 0; k < R.n; ++k)
+    for (int i = 0; i < kDerivatives; ++i) du.segment<3>(3 * i) += R(1 + i, k) * d.col(k);
+  return du;
+}
+
+void spread(const BasisView& R, const Derivatives& f, LocalVector& v) {
+  for (int k = 0; k < R.n; ++k)
+    v.segment<3>(3 * k) += R(1, k) * f.segment<3>(0) + R(2, k) * f.segment<3>(3) +
+                           R(3, k) * f.segment<3>(6) + R(4, k) * f.segment<3>(9) +
+                           R(5, k) * f.segment<3>(12);
+}
+
 void pack_tangent(const PointTangent& T, PackedTangent& P) {
   for (int j = 0; j < kDerivatives; ++j)
     for (int i = 0; i < kDerivatives; ++i)

@@ -97,6 +97,16 @@ using PointTangent = Mat<3 * kDerivatives, 3 * kDerivatives>;  // block (3i, 3j)
 using PackedTangent = Mat<9 * kDerivatives, kDerivatives>;
 void pack_tangent(const PointTangent& T, PackedTangent& P);
 
+// A vector over the local control points of one element, 3n ≤ 108 entries.
+using LocalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3 * kMaxFunctions, 1>;
+// A vector in the derivative space of B_k = Σ_i ρ_i(k) E_i (kl-shell.md §5).
+using Derivatives = Vec<3 * kDerivatives>;
+// (Σ_k ρ_i(k) d_k)_i for local vectors d_k (positions, increments, velocities): the derivatives
+// (d_ξ, d_η, d_ξξ, d_ξη, d_ηη) of the field d at the point, so that Σ_k B_k d_k = E · (this).
+Derivatives gather_derivatives(const BasisView& R, const LocalPoints& d);
+// v_k += Σ_i ρ_i(k) f_i for every local function k: B_kᵀ S from f = Eᵀ S.
+void spread(const BasisView& R, const Derivatives& f, LocalVector& v);
+
 // The strain operator E = [E_ξ, E_η, E_ξξ, E_ξη, E_ηη] (6 × 15) with B_k = Σ_i ρ_i(k) E_i
 // (kl-shell.md §5); so B_kᵀ S = Σ_i ρ_i(k) E_iᵀ S for the residual.
 using StrainOperator = Mat<6, 3 * kDerivatives>;

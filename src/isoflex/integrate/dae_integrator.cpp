@@ -66,7 +66,8 @@ State DaeIntegrator::initial_state() const {
 void DaeIntegrator::consistent_start(State& s) const {
   const int n = sys_.n(), m = sys_.m_selected();
   const std::vector<int>& rows = sys_.selected_rows();
-  const VecX f = sys_.static_force(s.q, s.t, nullptr);
+  VecX f = sys_.static_force(s.q, s.t, nullptr);
+  if (sys_.viscous()) f += sys_.viscous_force(s.q, s.v, 0, 0, nullptr);
   const SpMat G = sys_.jacobian(s.q);
   // G is affine in q (rows at most quadratic), so (G(q + v) − G(q)) v = (vᵀ∇²Φᵢ v)ᵢ exactly.
   VecX rhs_c = -((sys_.jacobian(s.q + s.v) - G) * s.v);
@@ -138,7 +139,11 @@ VecX DaeIntegrator::residual(const Prediction& p, const VecX& q, const VecX& lam
   const int n = sys_.n(), m = sys_.m_selected();
   const VecX acc = p.a + p.beta_p * (q - p.q);
   SpMat K;
-  const VecX f = sys_.static_force(q, t, S ? &K : nullptr, load_norm);
+  VecX f = sys_.static_force(q, t, S ? &K : nullptr, load_norm);
+  // Kelvin–Voigt forces f_v(q, q̇) with q̇ = v(q) of the scheme: K_t += ∂f_v/∂q, C_t = ∂f_v/∂q̇
+  // times γ′ = ∂q̇/∂q (IGA-thesis (2.27)).
+  if (sys_.viscous())
+    f += sys_.viscous_force(q, p.v + p.gamma_p * (q - p.q), 1.0, p.gamma_p, S ? &K : nullptr);
   const SpMat G = sys_.jacobian(q);
   VecX R(n + m);
   R.head(n) = c * (sys_.mass() * acc + f) + sigma * (G.transpose() * lambda_hat);
@@ -209,11 +214,17 @@ StepStats DaeIntegrator::attempt(State& s, double h) const {
     throw NewtonFailure(failure_message(fmt::format("step {} (t = {:.6g})", s.step + 1, t1), o,
                                         opt.residual_tolerance));
   const VecX acc = p.a + p.beta_p * (q - p.q);
+  const VecX v1 = p.v + p.gamma_p * (q - p.q);
+  if (sys_.viscous()) {  // the trapezoidal rule of the viscous power f_v·q̇
+    const double power0 = sys_.viscous_force(s.q, s.v, 0, 0, nullptr).dot(s.v);
+    const double power1 = sys_.viscous_force(q, v1, 0, 0, nullptr).dot(v1);
+    s.dissipated += 0.5 * h * (power0 + power1);
+  }
   if (settings_.integrator == I::generalized_alpha)
     s.aux = p.aux + (1.0 - alpha_.alpha_f) / (1.0 - alpha_.alpha_m) * acc;  // Alg. 2.1, line 19
   s.q_prev = s.q;
   s.v_prev = s.v;
-  s.v = p.v + p.gamma_p * (q - p.q);
+  s.v = v1;
   s.q = q;
   s.a = acc;
   s.lambda = lambda_hat * (sigma / c);

@@ -71,7 +71,7 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
       (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && dense_null_space()));
   if (settings.formulation == F::reparametrized && !tree_ && !bordered_ &&
       (how == ReducedSolve::blocks || how == ReducedSolve::automatic) &&
-      ReducedNewtonMatrix::applicable(sys))
+      ReducedNewtonMatrix::applicable(sys) && !sys.viscous())
     blocks_.emplace(sys);
   if (how == ReducedSolve::blocks && !blocks_)
     throw std::invalid_argument(
@@ -195,7 +195,11 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   const VecX qm = 0.5 * (s.q + q1);
   const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
   SpMat Kf;
-  const VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
+  VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
+  // Kelvin–Voigt forces at the midpoint, f_v(q_{n+½}, Δq/Δt): their work f_v·Δq is what the step
+  // removes from the energy, exactly (State::dissipated).
+  if (sys_.viscous())
+    f += sys_.viscous_force(qm, (q1 - s.q) / dt, 0.5, 1.0 / dt, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
   const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
   const int m = sys_.m_selected();
@@ -385,6 +389,10 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.last_dt = dt;
+  if (sys_.viscous()) {
+    const VecX dq = q1 - s.q;
+    s.dissipated += sys_.viscous_force(0.5 * (s.q + q1), dq / c.dt, 0, 0, nullptr).dot(dq);
+  }
   s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
   s.q = q1;
   s.t += c.dt;
@@ -404,6 +412,7 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
   out.kinetic_energy = 0.5 * s.v.dot(sys_.mass() * s.v);
   out.potential_energy = sys_.potential(s.q);
   out.total_energy = out.kinetic_energy + out.potential_energy;
+  out.dissipated_energy = s.dissipated;
   out.linear_momentum = sys_.linear_momentum(s.v);
   out.angular_momentum = sys_.angular_momentum(s.q, s.v);
   out.constraint_violation = sys_.constraints(s.q, s.t).lpNorm<Eigen::Infinity>();

@@ -63,6 +63,7 @@ struct Snapshot {
   double kinetic_energy = 0.0;
   double potential_energy = 0.0;  // conservative potentials only (gravity, elastic)
   double total_energy = 0.0;
+  double dissipated_energy = 0.0;  // work of the viscous forces since t = 0 (State::dissipated)
   Vec3 linear_momentum = Vec3::Zero();
   Vec3 angular_momentum = Vec3::Zero();  // about the global origin
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints

@@ -30,6 +30,10 @@ struct State {
   // generalized-α (IGA-thesis (2.23)), the multipliers λₙ of the selected rows, and qₙ₋₁, vₙ₋₁
   // for BDF-2.
   VecX a, aux, lambda, q_prev, v_prev;
+  // The work done against the viscous forces since t = 0 (System::viscous_force), ≥ 0: the
+  // energy–momentum schemes add f_v(q_{n+½}, Δq/Δt)·Δq, exactly what their step removes from
+  // the energy; the DAE schemes the trapezoidal rule of the power f_v·q̇.
+  double dissipated = 0.0;
 };
 
 struct StepStats {

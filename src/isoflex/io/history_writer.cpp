@@ -87,17 +87,23 @@ void CsvFile::flush() {
   pending_.clear();
 }
 
-HistoryWriter::HistoryWriter(const std::filesystem::path& outdir)
-    : file_(outdir / "history.csv", kHistoryHeader) {}
+HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy)
+    : file_(outdir / "history.csv",
+            dissipated_energy ? (std::string(kHistoryHeader) + ",dissipated_energy").c_str()
+                              : kHistoryHeader),
+      dissipated_(dissipated_energy) {}
 
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;
   const Vec3& L = s.angular_momentum;
   fmt::format_to(std::back_inserter(file_.pending()),
                  "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-                 "{:.17g},{},{:.17g}\n",
+                 "{:.17g},{},{:.17g}",
                  s.t, s.kinetic_energy, s.potential_energy, s.total_energy, p.x(), p.y(), p.z(),
                  L.x(), L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
+  if (dissipated_)
+    fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.dissipated_energy);
+  file_.pending() += '\n';
   file_.flush();
 }
 

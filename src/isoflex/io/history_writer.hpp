@@ -2,7 +2,8 @@
 // Time histories as CSV, one row per snapshot, numbers with 17 significant digits, written after
 // every snapshot so that a running or interrupted simulation can be inspected.
 //   history.csv: t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,
-//                constraint_violation,newton_iterations,residual
+//                constraint_violation,newton_iterations,residual[,dissipated_energy]
+//                (the last column for a model with material damping, model::has_material_damping)
 //   probes.csv:  t,probe,x,y,z,ux,uy,uz,vx,vy,vz (one row per probe and snapshot)
 //   resultants.csv: t,beam,element,n1,n2,n3,m1,m2,m3 (one row per beam element and snapshot;
 //                stress resultants in director components, DNSM-III (69))
@@ -52,12 +53,13 @@ class CsvFile {
 // Writes outdir/history.csv.
 class HistoryWriter : public integrate::Observer {
  public:
-  explicit HistoryWriter(const std::filesystem::path& outdir);
+  HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
  private:
   CsvFile file_;
+  bool dissipated_ = false;
 };
 
 // Writes outdir/probes.csv; creates no file (and ignores all snapshots) when the model has no

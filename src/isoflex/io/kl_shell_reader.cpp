@@ -73,7 +73,7 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
   const std::string mp = join(p, "material");
   const YAML::Node m = require(n, p, "material");
   expect_map(m, mp);
-  check_keys(m, mp, {"E", "nu", "thickness", "density"});
+  check_keys(m, mp, {"E", "nu", "thickness", "density", "eta"});
   s.E = positive(require(m, mp, "E"), join(mp, "E"));
   s.nu = number(require(m, mp, "nu"), join(mp, "nu"));
   if (!(s.nu > -1.0 && s.nu < 0.5))
@@ -82,6 +82,10 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
   relative_size(m["thickness"], join(mp, "thickness"), s.thickness, bounding_box_diagonal(g.points),
                 fmt::format("the bounding box of the control points of surface \"{}\"", s.surface));
   if (const auto d = m["density"]) s.density = positive(d, join(mp, "density"));
+  if (const auto e = m["eta"]) {
+    s.eta = number(e, join(mp, "eta"));
+    if (s.eta < 0) fail(e, join(mp, "eta"), "the damping factor η must be >= 0 (seconds)");
+  }
 
   if (const auto q = n["quadrature"]) {
     const std::string qk = join(p, "quadrature");

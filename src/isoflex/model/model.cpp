@@ -78,6 +78,13 @@ std::optional<Integrator> integrator_from_string(const std::string& s) {
   return std::nullopt;
 }
 
+bool has_material_damping(const Model& m) {
+  if (m.solver.analysis != Analysis::dynamic) return false;
+  for (const KLShell& s : m.kl_shells)
+    if (s.eta > 0) return true;
+  return false;
+}
+
 std::string step_count_problem(const Solver& s) {
   // snprintf, not fmt: the model room depends on math and geometry only.
   char text[256];

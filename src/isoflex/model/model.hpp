@@ -265,6 +265,7 @@ struct KLShell {
   std::string name;
   std::string surface;  // name in Model::surfaces
   double E = 0.0, nu = 0.0, thickness = 0.0, density = 0.0;
+  double eta = 0.0;  // Kelvin–Voigt damping factor η (s): S_v = η C Ė (IGA-thesis (3.51))
   std::array<int, 2> quadrature = {0, 0};  // Gauss points per span; 0: degree + 1
   Source source;
 };
@@ -384,6 +385,9 @@ inline constexpr double kMaxSteps = 1e8;
 // kMaxSteps, or, in a dynamic analysis, no step at all (t_end < dt / 2; a static analysis takes
 // at least one load step). dt and t_end are > 0.
 std::string step_count_problem(const Solver& s);
+// Whether a dynamic run of `m` dissipates through material damping (a kl_shells material with
+// eta > 0): history.csv gets the dissipated_energy column.
+bool has_material_damping(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
 

@@ -40,7 +40,7 @@ std::shared_ptr<elements::KLShellPatch> kl_patch(const model::Model& m, int inde
   const model::KLShell& s = m.kl_shells[index];
   try {
     return std::make_shared<elements::KLShellPatch>(
-        kl_surface(m, s), elements::KLShellSection{s.E, s.nu, s.thickness, s.density},
+        kl_surface(m, s), elements::KLShellSection{s.E, s.nu, s.thickness, s.density, s.eta},
         s.quadrature[0], s.quadrature[1]);
   } catch (const std::invalid_argument& e) {
     compile_fail(s.source, fmt::format("kl_shells[{}]", index), e.what());

@@ -158,6 +158,14 @@ class System {
   // Statics (and the DAE integrators): f = ∇V(q) − f_ext(q, t); K (if not null) receives
   // ∂f/∂q = ∇²V − ∂f_ext/∂q in the same fixed pattern; load_norm (if not null) ‖f_ext(q, t)‖∞.
   VecX static_force(const VecX& q, double t, SpMat* K, double* load_norm = nullptr) const;
+  // Whether some element has viscous forces (Kelvin–Voigt material damping, IGA-thesis §3.5).
+  bool viscous() const { return viscous_; }
+  // The elements' viscous forces f_v(q, q̇) (q̇ the time derivative of q; IGA-thesis (3.55)); K
+  // (if not null, already in the pattern of stiffness_pattern(), e.g. from discrete_force or
+  // static_force) receives cq ∂f_v/∂q + cv ∂f_v/∂q̇ added to its values. The energy–momentum
+  // schemes evaluate it at (q_{n+½}, Δq/Δt) with cq = ½, cv = 1/Δt; the DAE schemes at (q, q̇(q))
+  // with cq = 1, cv = γ′ (IGA-thesis (2.27), C_t).
+  VecX viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const;
 
   // Constraints at time t, all rows: Φ(q) − d(t), d(t) the right-hand sides of the rheonomic
   // rows (joints/constraint.hpp) and 0 elsewhere.
@@ -311,6 +319,7 @@ class System {
   int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
   double v0_error_ = 0.0;
   bool rheonomic_ = false;  // some row depends on t
+  bool viscous_ = false;    // some element has viscous forces
   VecX q0_, v0_;
   SpMat M_;
   VecX ground_;
