@@ -8,8 +8,8 @@
 // std::bad_alloc, std::invalid_argument, std::out_of_range, YAML exceptions), an unlocated
 // message, a crash, an assertion (Debug build: Eigen's and the project's), a sanitizer report.
 //
-// It loads as `isoflex check --max-memory 128MB` would: a model whose memory estimate exceeds
-// 128 MB (64 MB of them the process itself) is refused before System::compile, as load()
+// It loads as `isoflex check --max-memory 80MB` would: a model whose memory estimate exceeds
+// 80 MB (64 MB of them the process itself) is refused before System::compile, as load()
 // refuses it (exit 2). Larger models run the
 // same code at more cost (10-100 ms each under ASan would hold the fuzzer to tens of inputs per
 // second); the refusal itself is tested in tests/app/test_cli_memory.cpp.
@@ -30,7 +30,7 @@ using namespace isoflex;
 
 namespace {
 
-constexpr double kMemoryLimit = 128.0 * 1024 * 1024;
+constexpr double kMemoryLimit = 80.0 * 1024 * 1024;
 
 void expect_located(const std::string& message) {
   if (message.rfind("fuzz.yaml:", 0) != 0) __builtin_trap();
@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string yaml(reinterpret_cast<const char*>(data), size);
   try {
     const model::Model m =
-        io::read_model_string(yaml, "fuzz.yaml", {kMemoryLimit, "--max-memory is 128 MB"});
+        io::read_model_string(yaml, "fuzz.yaml", {kMemoryLimit, "--max-memory is 80 MB"});
     if (system::estimate_memory(m).total() > kMemoryLimit) return 0;
     const system::System sys = system::System::compile(m);
   } catch (const io::ModelError& e) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/integrate/initial_equilibrium.hpp"
 #include "isoflex/integrate/time_integrator.hpp"
 #include "isoflex/system/system.hpp"
 
@@ -38,11 +39,21 @@ inline std::vector<double> successive_ratios(const std::vector<Vec3>& at) {
   return r;
 }
 
+// As `isoflex run`: with solver.initial_equilibrium the run starts at rest in the static
+// equilibrium under the loads at t = 0 (the DAE schemes then make their consistent start there).
+inline void start_in_equilibrium(const model::Model& m, integrate::State& state) {
+  if (m.solver.initial_equilibrium <= 0) return;
+  state.q = integrate::initial_equilibrium(m).q;
+  state.v.setZero();
+  state.a.resize(0);
+}
+
 // Runs m (t_end / dt steps) with the integrator its solver names (make_time_integrator).
 inline Trajectory simulate(const model::Model& m) {
   const auto sys = system::System::compile(m);
   const auto integ = integrate::make_time_integrator(sys, m.solver);
   auto state = integ->initial_state();
+  start_in_equilibrium(m, state);
   Trajectory r;
   r.unknowns = integ->unknowns();
   const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
@@ -59,6 +70,7 @@ inline Trajectory simulate(model::Model m, model::Formulation f) {
   const auto sys = system::System::compile(m);
   const integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   auto state = integ.initial_state();
+  start_in_equilibrium(m, state);
   Trajectory r;
   r.unknowns = integ.unknowns();
   const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));

@@ -17,6 +17,7 @@
 #include "isoflex/app/interrupt.hpp"
 #include "isoflex/app/run_outputs.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/integrate/initial_equilibrium.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
@@ -450,6 +451,19 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // What the run is doing, for an out-of-memory message ("in load step 3 (t = 0.3)").
   std::string doing = "while opening the output files";
   try {
+    if (!statics && m.solver.initial_equilibrium > 0) {
+      doing = "while finding the initial equilibrium";
+      const integrate::InitialEquilibrium eq = integrate::initial_equilibrium(m);
+      state.q = eq.q;
+      state.v.setZero();
+      snap = integrate::snapshot(sys, state, {}, names);
+      sum.energy_initial = snap.total_energy;
+      sum.max_constraint_violation = snap.constraint_violation;
+      sum.initial_equilibrium_load_steps = eq.load_steps;
+      fmt::print(out, "initial equilibrium: {} load steps, {} Newton iterations\n", eq.load_steps,
+                 eq.iterations);
+    }
+    doing = "while opening the output files";
     outputs.emplace(outdir, m, err);
     outputs->snapshot(snap);
     if (statics) {
@@ -516,6 +530,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     code = kExitOutputError;
   }
   sum.energy_final = snap.total_energy;
+  if (model::has_material_damping(m)) sum.dissipated_energy = snap.dissipated_energy;
   sum.probes = snap.probes;
   try {
     io::write_summary_json(outdir / "summary.json", sum);

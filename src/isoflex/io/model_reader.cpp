@@ -167,7 +167,7 @@ class Reader : YamlFields {
     check_keys(n, "solver",
                {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
                 "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
-                "linear"});
+                "linear", "initial_equilibrium"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -213,6 +213,15 @@ class Reader : YamlFields {
     if (const auto v = n["max_subdivisions"]) {
       s.max_subdivisions = integer(v, "solver.max_subdivisions", 0);
       if (s.max_subdivisions > 20) fail(v, "solver.max_subdivisions", "at most 20 (Δt/2²⁰)");
+    }
+    if (const auto v = n["initial_equilibrium"]) {
+      s.initial_equilibrium = integer(v, "solver.initial_equilibrium", 0);
+      if (s.initial_equilibrium > 0 && s.analysis == model::Analysis::statics)
+        fail(v, "solver.initial_equilibrium",
+             "the start from a static equilibrium is for a dynamic analysis (a static analysis "
+             "finds the equilibrium itself)");
+      if (s.initial_equilibrium > 10000)
+        fail(v, "solver.initial_equilibrium", "at most 10000 load steps");
     }
     // The step count of the file's own dt and t_end (command-line overrides: app load()).
     if (const std::string problem = model::step_count_problem(s); !problem.empty()) {

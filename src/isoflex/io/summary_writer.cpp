@@ -98,6 +98,9 @@ std::string summary_json(const RunSummary& s) {
   real("energy_initial", s.energy_initial);
   real("energy_final", s.energy_final);
   real("max_energy_drift_after_loads", s.max_energy_drift_after_loads);
+  if (s.dissipated_energy) real("dissipated_energy", *s.dissipated_energy);
+  if (s.initial_equilibrium_load_steps)
+    integer("initial_equilibrium_load_steps", *s.initial_equilibrium_load_steps);
 
   key("probes");
   if (s.probes.empty()) {

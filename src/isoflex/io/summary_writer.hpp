@@ -2,6 +2,7 @@
 // summary.json: the facts of one run (sizes, effort, accuracy, final probe values), written by hand
 // as JSON. Doubles are written with 17 significant digits; NaN and ±inf become null.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +29,11 @@ struct RunSummary {
   double energy_final = 0.0;
   // max |E − E_ref| / |E_ref| after the last load has ceased (NaN when not applicable)
   double max_energy_drift_after_loads = 0.0;
+  // Written only when set: the work of the viscous forces (a model with material damping; the
+  // drift above is then that of energy + dissipated energy), and the load steps of the static
+  // equilibrium the run started from (solver.initial_equilibrium).
+  std::optional<double> dissipated_energy;
+  std::optional<int> initial_equilibrium_load_steps;
   std::vector<integrate::ProbeValue> probes;
   // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"
   // (SIGINT, SIGTERM): README "Exit codes"

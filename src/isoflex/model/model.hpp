@@ -340,6 +340,9 @@ struct Solver {
   int max_subdivisions = 0;
   // Static solve only: small displacements (one Newton correction from q₀ per load step).
   bool linear = false;
+  // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
+  // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
+  int initial_equilibrium = 0;
 };
 
 struct Output {
