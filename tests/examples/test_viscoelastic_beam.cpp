@@ -169,6 +169,44 @@ TEST(ViscoelasticBeam, InitialEquilibriumKeyErrors) {
             "m.yaml:3: solver.initial_equilibrium: must be >= 0, got -1");
 }
 
+// examples/viscoelastic_beam_periodic (IGA-thesis §6.4.3.2) at η = 0.08 s: after ten decay times
+// 2/(η ω₁²) of the transient the tip oscillates at the load's Ω with the amplitude and phase lag of
+// the linear one-mode Kelvin–Voigt oscillator (README.md there): X = X₀/√((1 − r²)² + (ηΩ)²),
+// tan φ = ηΩ/(1 − r²), r = Ω/ω₁.
+TEST(ViscoelasticBeam, SteadyStateUnderAHarmonicLoad) {
+  model::Model m = io::read_model_string(
+      test::example_text("viscoelastic_beam_periodic", "model.yaml"), "model.yaml");
+  const double eta = 0.08, Omega = 3.39, omega1 = 3.583, X0 = 5.193e-3;
+  m.kl_shells.front().eta = eta;
+  m.solver.t_end = 20.0;
+  const test::Trajectory r = test::simulate(m, model::Formulation::reparametrized);
+  // Least squares over the last four periods: u_z = a sin Ωt + b cos Ωt + c.
+  const double t0 = m.solver.t_end - 4 * 2 * test::kPi / Omega;
+  const std::vector<Vec3> tip = r.probe("tip");
+  const Vec3 X_ref = tip.front();
+  Eigen::MatrixXd A(0, 3);
+  VecX z(0);
+  for (std::size_t i = 0; i < tip.size(); ++i) {
+    const double t = r.snapshots[i].t;
+    if (t < t0) continue;
+    A.conservativeResize(A.rows() + 1, 3);
+    z.conservativeResize(z.size() + 1);
+    A.row(A.rows() - 1) << std::sin(Omega * t), std::cos(Omega * t), 1.0;
+    z(z.size() - 1) = tip[i].z() - X_ref.z();
+  }
+  const Vec3 abc = A.colPivHouseholderQr().solve(z);
+  const double X = std::hypot(abc(0), abc(1)), phi = std::atan2(-abc(1), abc(0));
+  const double rr = Omega / omega1;
+  const double X_sdof = X0 / std::hypot(1 - rr * rr, eta * Omega);
+  const double phi_sdof = std::atan2(eta * Omega, 1 - rr * rr);
+  EXPECT_NEAR(X / X_sdof, 1.0, 0.02);
+  EXPECT_NEAR((phi - phi_sdof) * 180 / test::kPi, 0.0, 1.0);
+  for (std::size_t i = 1; i < r.snapshots.size(); ++i)
+    EXPECT_GT(r.snapshots[i].dissipated_energy, r.snapshots[i - 1].dissipated_energy) << i;
+  report("steady amplitude / one-mode oscillator", X / X_sdof);
+  report("phase lag - one-mode oscillator (deg)", (phi - phi_sdof) * 180 / test::kPi);
+}
+
 // tools/damping_study.py runs the model per η and writes the two figures and the table.
 TEST(ViscoelasticBeam, DampingStudyScript) {
   const test::TempDir dir(test::temp_dir("isoflex_", "damping_study"));
@@ -183,6 +221,15 @@ TEST(ViscoelasticBeam, DampingStudyScript) {
   const std::string t = test::read_text(table);
   EXPECT_NE(t.find("| 0 | "), std::string::npos) << t;
   EXPECT_NE(t.find("| 0.02 | "), std::string::npos) << t;
+  // The steady state under a harmonic load, with the one-mode oscillator beside it.
+  const auto h = test::run_shell(
+      std::string("cd ") + ISOFLEX_SOURCE_DIR + " && /usr/bin/python3 tools/damping_study.py " +
+      "examples/viscoelastic_beam_periodic/model.yaml --etas 0.08 --t-end 8 --forcing 3.39 " +
+      "--periods 2 --sdof 3.583,5.193e-3 --isoflex " + ISOFLEX_BINARY + " --outdir " +
+      dir.path().string() + " --table " + table);
+  ASSERT_EQ(h.code, 0) << h.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "steady_state.png"));
+  EXPECT_NE(test::read_text(table).find("| 0.08 | "), std::string::npos);
   EXPECT_EQ(test::run_shell("/usr/bin/python3 " + std::string(ISOFLEX_SOURCE_DIR) +
                             "/tools/damping_study.py /no/such.yaml --etas 0")
                 .code,
