@@ -53,6 +53,19 @@ std::vector<bool> position_blocks(const std::vector<NodeKind>& kinds) {
   return phi;
 }
 
+// The velocity of the rigid motion with angular velocity ω and translational velocity c at q:
+// every block ω × q_b, positions also + c.
+VecX rigid_velocity(const VecX& q, const std::vector<NodeKind>& kinds, const Vec3& w,
+                    const Vec3& c) {
+  const std::vector<bool> phi = position_blocks(kinds);
+  VecX out(q.size());
+  for (int b = 0; b < q.size() / 3; ++b) {
+    out.segment<3>(3 * b) = w.cross(Vec3(q.segment<3>(3 * b)));
+    if (phi[b]) out.segment<3>(3 * b) += c;
+  }
+  return out;
+}
+
 // The rigid motion q ↦ Q q + c: every block rotated by Q, positions also translated by c.
 VecX rigid_motion(const VecX& q, const std::vector<NodeKind>& kinds, const Mat3& Q, const Vec3& c) {
   const std::vector<bool> phi = position_blocks(kinds);
@@ -113,6 +126,7 @@ struct BeamMaker {
     s.A_rho = 20.0;
     s.M_rho1 = 10.0;
     s.M_rho2 = 7.0;
+    s.eta = 0.01;  // Kelvin–Voigt damping: only the viscous-force tests see it
     return s;
   }
   static frame_node::Q node_a() {
@@ -141,6 +155,7 @@ struct DirectorShellMaker {
     m.nu = 0.3;
     m.thickness = 0.1;
     m.density = 7.0;
+    m.eta = 0.01;
     return m;
   }
   static Vec<24> reference() {
@@ -175,6 +190,7 @@ struct KLPatchMaker {
     section.poisson = 0.3;
     section.thickness = 0.1;
     section.density = 7.0;
+    section.eta = 0.01;
     return std::make_shared<const elements::KLShellPatch>(s, section);
   }
   static std::vector<int> node_numbers(int n) {
@@ -532,4 +548,68 @@ TYPED_TEST(ElementContract, MassIsSymmetricPositiveSemiDefiniteAndConstant) {
   EXPECT_EQ(e.mass(), M);  // constant: the same on every call
   report(this->kind, "mass asymmetry (rel)", r_sym);
   report(this->kind, "mass smallest / largest eigenvalue", lo / hi);
+}
+
+// 8. Kelvin–Voigt viscous forces (IGA-thesis §3.5; docs/theory/kl-shell.md §11, beam.md §9,
+// shell.md §11): f_v(q, q̇) = Bᵀ η C B q̇. Both derivatives against central differences, in the
+// element's pattern; f_v linear in q̇.
+TYPED_TEST(ElementContract, ViscousForceTangentsMatchFiniteDifference) {
+  const auto& e = this->element;
+  if (!e.viscous()) GTEST_SKIP() << "no viscous forces";
+  const SpMat pattern = e.pattern();
+  auto matrix = [&](const VecX& q, const VecX& v, double cq, double cv) {
+    SpMat K = pattern;
+    std::fill_n(K.valuePtr(), K.nonZeros(), 0.0);
+    e.viscous_force_in_pattern(q, v, cq, cv, K.valuePtr());
+    return MatX(K);
+  };
+  double worst_q = 0.0, worst_v = 0.0;
+  for (int t = 0; t < this->kTrials; ++t) {
+    const VecX q = this->deformed(), v = random_vector(this->g, this->size(), 1.0);
+    auto in_q = [&](const VecX& y) -> VecX {
+      return e.viscous_force_in_pattern(y, v, 0, 0, nullptr);
+    };
+    auto in_v = [&](const VecX& w) -> VecX {
+      return e.viscous_force_in_pattern(q, w, 0, 0, nullptr);
+    };
+    const MatX Kq = matrix(q, v, 1, 0), Kv = matrix(q, v, 0, 1);
+    const double eq = rel_diff(Kq, central_jacobian(in_q, q)),
+                 ev = rel_diff(Kv, central_jacobian(in_v, v));
+    EXPECT_LT(eq, 1e-6) << "trial " << t;
+    EXPECT_LT(ev, 1e-6) << "trial " << t;
+    EXPECT_LT((Kv * v - in_v(v)).norm(), 1e-12 * std::max(1.0, in_v(v).norm()));
+    EXPECT_LT((matrix(q, v, 0.5, 3.0) - 0.5 * Kq - 3.0 * Kv).norm(),
+              1e-13 * (Kq.norm() + 3.0 * Kv.norm()));
+    worst_q = std::max(worst_q, eq);
+    worst_v = std::max(worst_v, ev);
+  }
+  report(this->kind, "viscous df_v/dq vs central FD (rel)", worst_q);
+  report(this->kind, "viscous df_v/dqdot vs central FD (rel)", worst_v);
+}
+
+// The viscous power q̇·f_v = η Ėᵀ C Ė ≥ 0; a rigid velocity (Ė = 0) meets no viscous force; for
+// any q̇ the force has no resultant on the positions and no moment (the strains are invariant):
+// viscosity conserves momenta.
+TYPED_TEST(ElementContract, ViscousForceDissipatesAndSparesRigidVelocitiesAndMomenta) {
+  const auto& e = this->element;
+  if (!e.viscous()) GTEST_SKIP() << "no viscous forces";
+  double worst_rigid = 0.0, worst_lin = 0.0, worst_ang = 0.0;
+  for (int t = 0; t < this->kTrials; ++t) {
+    const VecX q = this->deformed(), v = random_vector(this->g, this->size(), 1.0);
+    const VecX f = e.viscous_force_in_pattern(q, v, 0, 0, nullptr);
+    EXPECT_GT(v.dot(f), 0.0) << "trial " << t;
+    const double scale = std::max(f.norm(), 1e-300);
+    worst_lin = std::max(worst_lin, position_sum(f, this->phi).norm() / scale);
+    worst_ang = std::max(worst_ang, moment(q, f).norm() / (scale * std::max(q.norm(), 1.0)));
+    const VecX rigid = rigid_velocity(q, this->maker.kinds, random_vector(this->g, 3, 1.0),
+                                      random_vector(this->g, 3, 1.0));
+    worst_rigid =
+        std::max(worst_rigid, e.viscous_force_in_pattern(q, rigid, 0, 0, nullptr).norm() / scale);
+  }
+  EXPECT_LT(worst_lin, 1e-13);
+  EXPECT_LT(worst_ang, 1e-13);
+  EXPECT_LT(worst_rigid, 1e-13);
+  report(this->kind, "viscous: sum of position forces / |f_v|", worst_lin);
+  report(this->kind, "viscous: sum q x f_v / (|f_v| |q|)", worst_ang);
+  report(this->kind, "viscous: |f_v(rigid velocity)| / |f_v|", worst_rigid);
 }

@@ -882,7 +882,7 @@ TEST(ModelReader, BeamErrors) {
   EXPECT_EQ(error_of(with_section("    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1, "
                                   "EIz: 2}")),
             "m.yaml:6: beams[0].section.EIz: unknown key (valid keys: EA, GA, GA1, GA2, EI, EI1, "
-            "EI2, GJ, A_rho, M_rho, M_rho1, M_rho2)");
+            "EI2, GJ, A_rho, M_rho, M_rho1, M_rho2, eta)");
   EXPECT_EQ(error_of(beam({"  - name: b", pts, "    elements: 1", "    d1: [0, 0, 1]",
                            "    section:", "      EA: 1", "      GA: 1", "      EI: 1",
                            "      GJ: 1", "      A_rho: 1", "      M_rho1: 1", "      M_rho2: x"})),
@@ -988,4 +988,28 @@ TEST(ModelReader, DocumentationBeamExampleIsValid) {
   EXPECT_EQ(m.beams.size(), 1u);
   EXPECT_EQ(m.distributed_loads.size(), 1u);
   EXPECT_FALSE(m.joints.empty());
+}
+
+// Kelvin–Voigt damping factors (seconds, ≥ 0) of a beam section and a director-shell material;
+// has_material_damping sees them (history.csv's dissipated_energy column).
+TEST(ModelReader, DampingFactorsOfBeamsAndShells) {
+  const std::string beam =
+      "beams:\n  - name: b\n    points: [[0, 0, 0], [1, 0, 0]]\n    elements: 2\n    d1: [0, 0, "
+      "1]\n"
+      "    section: {EA: 1, GA: 1, EI: 1, GJ: 1, A_rho: 1, M_rho: 1, eta: ";
+  const std::string shell =
+      "shells:\n  - name: p\n    plate: {corners: [[0, 0, 0], [1, 0, 0], [1, 0.5, 0], [0, 0.5, "
+      "0]], elements: [2, 1]}\n    material: {E: 1.0e5, nu: 0.3, thickness: 0.05, density: 100, "
+      "eta: ";
+  const model::Model a = io::read_model_string(beam + "0.02}\n", "m.yaml");
+  EXPECT_EQ(a.beams[0].section.eta, 0.02);
+  EXPECT_TRUE(model::has_material_damping(a));
+  const model::Model b = io::read_model_string(shell + "0.5}\n", "m.yaml");
+  EXPECT_EQ(b.shells[0].material.eta, 0.5);
+  EXPECT_TRUE(model::has_material_damping(b));
+  EXPECT_FALSE(model::has_material_damping(io::read_model_string(beam + "0}\n", "m.yaml")));
+  EXPECT_EQ(error_of(beam + "-1}\n"),
+            "m.yaml:6: beams[0].section.eta: the damping factor η must be >= 0 (seconds)");
+  EXPECT_EQ(error_of(shell + "-0.1}\n"),
+            "m.yaml:4: shells[0].material.eta: the damping factor η must be >= 0 (seconds)");
 }

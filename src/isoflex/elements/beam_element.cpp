@@ -179,6 +179,22 @@ VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_
   return dv;
 }
 
+VecX BeamElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq, double cv,
+                                           double* values) const {
+  const Q q = as_element_q(qx), v = as_element_q(qdotx);
+  const Mat<6, kCoords> B = strain_jacobian(q);
+  const Strain6 etaC = section_.eta * C_;
+  const Strain6 Sv = etaC.cwiseProduct(B * v);  // η C Ė, Ė = B(q) q̇
+  if (values) {
+    const Mat<kCoords, 6> BC = B.transpose() * etaC.asDiagonal();
+    const Mat<kCoords, kCoords> K =
+        L0_ * (cv * BC.lazyProduct(B) +
+               cq * (weighted_strain_hessian(Sv) + BC.lazyProduct(strain_jacobian(v))));
+    Eigen::Map<Mat<kCoords, kCoords>>(values) += K;  // the dense pattern, column-major
+  }
+  return L0_ * B.transpose() * Sv;
+}
+
 MatX BeamElement::mass() const {
   // T = ½ ∫ (A_ρ|φ̇|² + M_ρ¹|ḋ₁|² + M_ρ²|ḋ₂|²) ds with ∫ N_a N_b ds = L₀/6 [[2, 1], [1, 2]]:
   // M = (L₀/6 [[2, 1], [1, 2]]) ⊗ diag(A_ρ, M_ρ¹, M_ρ², 0) ⊗ I₃ (consistent, constant).

@@ -37,6 +37,7 @@ struct BeamSection {
   double A_rho = 0.0;   // mass per reference length A_ρ
   double M_rho1 = 0.0;  // ∫ ρ (ζ¹)² dA, inertia of d₁
   double M_rho2 = 0.0;  // ∫ ρ (ζ²)² dA, inertia of d₂
+  double eta = 0.0;     // Kelvin–Voigt damping factor η: viscous resultants η C (Γ̇, K̇)
 };
 
 class BeamElement final : public Element {
@@ -69,6 +70,12 @@ class BeamElement final : public Element {
   // DV = L₀ B(q_{n+½})ᵀ C ½(E(qₙ) + E(qₙ₊₁)) + ∇V_g, exact in the sense of Gonzalez.
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
   MatX mass() const override;
+  // Kelvin–Voigt viscous force f_v = L₀ B(q)ᵀ η C B(q) q̇ (the strain rates Ė = B(q) q̇ with the
+  // stiffnesses times η; docs/theory/beam.md §9). B is linear in q, so ∂(B(q) q̇)/∂q = B(q̇):
+  // ∂f_v/∂q = L₀ (Σ_k S_v,k H_k + Bᵀ η C B(q̇)), ∂f_v/∂q̇ = L₀ Bᵀ η C B.
+  bool viscous() const override { return section_.eta > 0.0; }
+  VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
+                                double* values) const override;
 
   // Exact Hessian of V (for static solvers and tests).
   Mat<kCoords, kCoords> hessian(const VecX& q) const;

@@ -370,6 +370,21 @@ VecX DirectorShellElement::discrete_gradient(const VecX& qnx, const VecX& qn1x,
   return dv;
 }
 
+VecX DirectorShellElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq,
+                                                    double cv, double* values) const {
+  const Q q = as_element_q(qx), v = as_element_q(qdotx);
+  const Jacobian B = strain_jacobian(q);
+  const Strains Sv = material_.eta * stresses(B * v);  // η C Ė, Ė = B(q) q̇
+  if (values) {
+    const Jacobian Bv = strain_jacobian(v);
+    const Mat<kCoords, kCoords> K =
+        (cv * material_.eta) * material_stiffness(B, B) +
+        cq * (weighted_strain_hessian(Sv) + material_.eta * material_stiffness(B, Bv));
+    Eigen::Map<Mat<kCoords, kCoords>>(values) += K;  // the dense pattern, column-major
+  }
+  return B.transpose() * Sv;
+}
+
 MatX DirectorShellElement::mass() const {
   // T = ½ ∫ ρh (|φ̇|² + (h²/12)|ḋ|²) dA: M = (∫ N_a N_b dA) ⊗ diag(ρh, ρh³/12) ⊗ I₃.
   const double rho_h = material_.density * material_.thickness;

@@ -28,6 +28,7 @@ namespace isoflex::elements {
 struct ShellMaterial {
   double E = 0, nu = 0, thickness = 0, density = 0;
   double shear_correction = 5.0 / 6.0;  // κ_s in q^α = κ_s G h A^{αβ} γ_β
+  double eta = 0.0;  // Kelvin–Voigt damping factor η: viscous resultants η C (ε̇, κ̇, γ̇)
 };
 
 class DirectorShellElement final : public Element {
@@ -53,6 +54,12 @@ class DirectorShellElement final : public Element {
   // Average-strain discrete gradient (docs/theory/shell.md §5), 24 (+ 24 × 24, not symmetric).
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
   MatX mass() const override;  // 24 × 24, constant, consistent
+  // Kelvin–Voigt viscous force f_v = B(q)ᵀ η C B(q) q̇ over the Gauss points (the strain rates
+  // with the stiffnesses times η, assumed strains included; docs/theory/shell.md §11); B linear in
+  // q, so ∂f_v/∂q = Σ_k S_v,k H_k + Bᵀ η C B(q̇) and ∂f_v/∂q̇ = Bᵀ η C B.
+  bool viscous() const override { return material_.eta > 0.0; }
+  VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
+                                double* values) const override;
   // Strain-energy Hessian (24 × 24) at q (for linear analysis and tests).
   Mat<24, 24> stiffness(const Vec<24>& q) const;
   double reference_area() const { return area_; }

@@ -82,10 +82,7 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
   relative_size(m["thickness"], join(mp, "thickness"), s.thickness, bounding_box_diagonal(g.points),
                 fmt::format("the bounding box of the control points of surface \"{}\"", s.surface));
   if (const auto d = m["density"]) s.density = positive(d, join(mp, "density"));
-  if (const auto e = m["eta"]) {
-    s.eta = number(e, join(mp, "eta"));
-    if (s.eta < 0) fail(e, join(mp, "eta"), "the damping factor η must be >= 0 (seconds)");
-  }
+  if (const auto e = m["eta"]) s.eta = damping_factor(e, join(mp, "eta"));
 
   if (const auto q = n["quadrature"]) {
     const std::string qk = join(p, "quadrature");

@@ -451,9 +451,9 @@ class Reader : YamlFields {
 
   model::BeamSection read_section(const YAML::Node& n, const std::string& p) const {
     expect_map(n, p);
-    check_keys(
-        n, p,
-        {"EA", "GA", "GA1", "GA2", "EI", "EI1", "EI2", "GJ", "A_rho", "M_rho", "M_rho1", "M_rho2"});
+    check_keys(n, p,
+               {"EA", "GA", "GA1", "GA2", "EI", "EI1", "EI2", "GJ", "A_rho", "M_rho", "M_rho1",
+                "M_rho2", "eta"});
     model::BeamSection s;
     s.EA = positive(require(n, p, "EA"), join(p, "EA"));
     s.GJ = positive(require(n, p, "GJ"), join(p, "GJ"));
@@ -481,6 +481,7 @@ class Reader : YamlFields {
     either("GA", "GA1", "GA2", s.GA1, s.GA2);
     either("EI", "EI1", "EI2", s.EI1, s.EI2);
     either("M_rho", "M_rho1", "M_rho2", s.M_rho1, s.M_rho2);
+    if (const auto v = n["eta"]) s.eta = damping_factor(v, join(p, "eta"));
     return s;
   }
 

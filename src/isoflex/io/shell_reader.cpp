@@ -88,7 +88,7 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
   const std::string mp = join(p, "material");
   const YAML::Node m = require(n, p, "material");
   expect_map(m, mp);
-  check_keys(m, mp, {"E", "nu", "thickness", "density", "shear_correction"});
+  check_keys(m, mp, {"E", "nu", "thickness", "density", "shear_correction", "eta"});
   s.material.E = positive(require(m, mp, "E"), join(mp, "E"));
   s.material.nu = number(require(m, mp, "nu"), join(mp, "nu"));
   if (!(s.material.nu > -1.0 && s.material.nu < 0.5))
@@ -97,6 +97,7 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
   s.material.density = positive(require(m, mp, "density"), join(mp, "density"));
   if (const auto k = m["shear_correction"])
     s.material.shear_correction = positive(k, join(mp, "shear_correction"));
+  if (const auto e = m["eta"]) s.material.eta = damping_factor(e, join(mp, "eta"));
 
   const int sources = (n["plate"] ? 1 : 0) + (n["surface"] ? 1 : 0) + (n["mesh"] ? 1 : 0);
   if (sources != 1) fail(n, p, "give exactly one of plate, surface or mesh");

@@ -116,6 +116,12 @@ void YamlFields::relative_size(const YAML::Node& n, const std::string& key, doub
                      kMinRelativeThickness, kMinRelativeThickness, size, of, bound));
 }
 
+double YamlFields::damping_factor(const YAML::Node& n, const std::string& key) const {
+  const double eta = number(n, key);
+  if (eta < 0) fail(n, key, "the damping factor η must be >= 0 (seconds)");
+  return eta;
+}
+
 int YamlFields::integer(const YAML::Node& n, const std::string& key, int min) const {
   int k = 0;
   if (!n.IsScalar() || !YAML::convert<int>::decode(n, k)) fail(n, key, "expected an integer");

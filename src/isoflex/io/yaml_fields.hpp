@@ -56,6 +56,8 @@ class YamlFields {
   void relative_size(const YAML::Node& n, const std::string& key, double value, double size,
                      const std::string& of) const;
   int integer(const YAML::Node& n, const std::string& key, int min) const;
+  // A Kelvin–Voigt damping factor η (seconds, ≥ 0): materials' and sections' `eta`.
+  double damping_factor(const YAML::Node& n, const std::string& key) const;
   bool boolean(const YAML::Node& n, const std::string& key) const;
   Vec3 vec3(const YAML::Node& n, const std::string& key) const;
   Vec3 positive_vec3(const YAML::Node& n, const std::string& key) const;

@@ -82,6 +82,10 @@ bool has_material_damping(const Model& m) {
   if (m.solver.analysis != Analysis::dynamic) return false;
   for (const KLShell& s : m.kl_shells)
     if (s.eta > 0) return true;
+  for (const Beam& b : m.beams)
+    if (b.section.eta > 0) return true;
+  for (const Shell& s : m.shells)
+    if (s.material.eta > 0) return true;
   return false;
 }
 

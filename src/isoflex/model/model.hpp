@@ -102,6 +102,7 @@ struct Load {
 struct BeamSection {
   double EA = 0, GA1 = 0, GA2 = 0, EI1 = 0, EI2 = 0, GJ = 0;
   double A_rho = 0, M_rho1 = 0, M_rho2 = 0;
+  double eta = 0;  // Kelvin–Voigt damping factor η (s): resultant rates η C (Γ̇, K̇)
 };
 
 // A beam along a polyline, meshed with two-node elements; its nodes are frame nodes named
@@ -137,6 +138,7 @@ struct DistributedLoad {
 struct ShellMaterial {
   double E = 0, nu = 0, thickness = 0, density = 0;
   double shear_correction = 5.0 / 6.0;
+  double eta = 0;  // Kelvin–Voigt damping factor η (s): resultant rates η C (ε̇, κ̇, γ̇)
 };
 
 // A shell meshed with bilinear four-node elements; its nodes are director nodes (φ, d) named
@@ -388,8 +390,8 @@ inline constexpr double kMaxSteps = 1e8;
 // kMaxSteps, or, in a dynamic analysis, no step at all (t_end < dt / 2; a static analysis takes
 // at least one load step). dt and t_end are > 0.
 std::string step_count_problem(const Solver& s);
-// Whether a dynamic run of `m` dissipates through material damping (a kl_shells material with
-// eta > 0): history.csv gets the dissipated_energy column.
+// Whether a dynamic run of `m` dissipates through material damping (eta > 0 in a kl_shells or
+// shells material or a beam section): history.csv gets the dissipated_energy column.
 bool has_material_damping(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);

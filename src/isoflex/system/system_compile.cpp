@@ -174,8 +174,8 @@ void System::add_beams(Build& build) {
       inst.nodes.push_back(next + static_cast<int>(k));
     }
     const model::BeamSection& c = B.section;
-    const elements::BeamSection section{c.EA, c.GA1,   c.GA2,    c.EI1,   c.EI2,
-                                        c.GJ, c.A_rho, c.M_rho1, c.M_rho2};
+    const elements::BeamSection section{c.EA, c.GA1,   c.GA2,    c.EI1,    c.EI2,
+                                        c.GJ, c.A_rho, c.M_rho1, c.M_rho2, c.eta};
     for (std::size_t k = 0; k + 1 < q.size(); ++k) {
       const int a = next + static_cast<int>(k);
       try {
@@ -208,8 +208,12 @@ void System::add_shells(Build& build) {
       add_node(NodeKind::director, q, name, static_cast<int>(model.beams.size() + si));
       inst.nodes.push_back(next + k);
     }
-    const elements::ShellMaterial mat{S.material.E, S.material.nu, S.material.thickness,
-                                      S.material.density, S.material.shear_correction};
+    const elements::ShellMaterial mat{S.material.E,
+                                      S.material.nu,
+                                      S.material.thickness,
+                                      S.material.density,
+                                      S.material.shear_correction,
+                                      S.material.eta};
     for (std::size_t e = 0; e < S.quads.size(); ++e) {
       std::array<int, 4> nodes;
       Vec<24> q0;
