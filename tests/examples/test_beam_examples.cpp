@@ -9,6 +9,7 @@
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/finite_difference.hpp"
+#include "support/sanitizers.hpp"
 #include "support/statics.hpp"
 
 using namespace isoflex;
@@ -163,6 +164,7 @@ Conservation fly(model::Formulation f, int pulse, int free) {
 
 // 10 000 free steps (t = 0.05 … 50.05) of the default (reparametrized) formulation.
 TEST(FreeFlyingBeam, ConservesEnergyAndMomentaOver10000Steps) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const auto c = fly(model::Formulation::reparametrized, 10, 10000);
   EXPECT_LT(c.energy, 1e-10);
   EXPECT_LT(c.p, 1e-10);

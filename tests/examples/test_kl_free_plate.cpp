@@ -10,6 +10,7 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/sanitizers.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -66,6 +67,7 @@ TEST(KLFreePlate, CountsAndTheKickedState) {
 }
 
 TEST(KLFreePlate, ConservesEnergyAndMomentaAfterThePulseInEveryFormulation) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const model::Model m = plate(0.6, 0.01);
   std::vector<std::vector<Vec3>> corner;
   for (F f : {F::reparametrized, F::constrained, F::nullspace}) {

@@ -11,6 +11,7 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/examples.hpp"
+#include "support/sanitizers.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -42,6 +43,7 @@ TEST(KLPlateOnHub, Counts) {
 }
 
 TEST(KLPlateOnHub, ConservesAndTheFormulationsAgree) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const model::Model m = hub(example(), 0.5, 0.01);
   std::vector<std::vector<Vec3>> tip;
   std::vector<int> unknowns;

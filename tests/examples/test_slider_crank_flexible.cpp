@@ -8,6 +8,7 @@
 
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/sanitizers.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -73,6 +74,7 @@ TEST(SliderCrankFlexible, CheckPrintsTheCounts) {
 
 // The whole 10 s run with both schemes (Δt = 0.01, Newton increment tolerance 1e-12).
 TEST(SliderCrankFlexible, ConservesEnergyAfterTheLoadAndBothSchemesAgree) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const test::Trajectory rep = simulate(F::reparametrized);
   const test::Trajectory con = simulate(F::constrained);
   EXPECT_EQ(rep.unknowns, 214);

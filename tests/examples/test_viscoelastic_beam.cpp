@@ -20,6 +20,7 @@
 #include "support/files.hpp"
 #include "support/geometry.hpp"
 #include "support/model_errors.hpp"
+#include "support/sanitizers.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -91,6 +92,7 @@ TEST(ViscoelasticBeam, StartsFromTheStaticEquilibrium) {
 }
 
 TEST(ViscoelasticBeam, EnergyPlusDissipationIsConservedAndTheSwingDecays) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const test::Trajectory r = test::simulate(beam(6.0, 0.01), model::Formulation::reparametrized);
   const auto& s = r.snapshots;
   double worst = 0.0;
@@ -112,6 +114,7 @@ TEST(ViscoelasticBeam, EnergyPlusDissipationIsConservedAndTheSwingDecays) {
 // with η the late, small oscillations decay at the damping ratio of the first bending mode,
 // ζ = η ω₁/2 with ω₁ = 2π / period of the undamped run.
 TEST(ViscoelasticBeam, LinearRegimeDampingRatioIsEtaOmegaOverTwo) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const test::Trajectory free = test::simulate(beam(6.0, 0.0), model::Formulation::reparametrized);
   const std::vector<double> z0 = peaks(free);
   ASSERT_GE(z0.size(), 3u);
@@ -174,6 +177,7 @@ TEST(ViscoelasticBeam, InitialEquilibriumKeyErrors) {
 // the linear one-mode Kelvin–Voigt oscillator (README.md there): X = X₀/√((1 − r²)² + (ηΩ)²),
 // tan φ = ηΩ/(1 − r²), r = Ω/ω₁.
 TEST(ViscoelasticBeam, SteadyStateUnderAHarmonicLoad) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   model::Model m = io::read_model_string(
       test::example_text("viscoelastic_beam_periodic", "model.yaml"), "model.yaml");
   const double eta = 0.08, Omega = 3.39, omega1 = 3.583, X0 = 5.193e-3;
@@ -209,6 +213,7 @@ TEST(ViscoelasticBeam, SteadyStateUnderAHarmonicLoad) {
 
 // tools/damping_study.py runs the model per η and writes the two figures and the table.
 TEST(ViscoelasticBeam, DampingStudyScript) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const test::TempDir dir(test::temp_dir("isoflex_", "damping_study"));
   const std::string table = (dir.path() / "table.md").string();
   const auto r = test::run_shell(

@@ -15,6 +15,7 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "support/models.hpp"
+#include "support/sanitizers.hpp"
 
 using namespace isoflex;
 using integrate::DaeIntegrator;
@@ -257,6 +258,7 @@ TEST(DaeIntegrator, GeneralizedAlphaConservesLinearMomentumOfAFreeBody) {
 
 // The orders hold on a Kirchhoff–Love patch (point nodes) and on a closed loop of bodies too.
 TEST(DaeIntegrator, ObservedOrdersOnAKirchhoffLovePlateAndTheFourBar) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   for (const I scheme : {I::generalized_alpha, I::bdf2, I::bdf1}) {
     const double order = scheme == I::bdf1 ? 1.0 : 2.0;
     const auto plate = orders_of([&](double dt) { return kl_plate(scheme, dt); }, 0.5, 100, false);
