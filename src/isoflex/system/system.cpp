@@ -240,39 +240,33 @@ VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) 
 
 VecX System::viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const {
   VecX f = VecX::Zero(n());
-  std::vector<double> values;
-  for (std::size_t i = 0; i < elements_.size(); ++i) {
-    const auto& e = elements_[i];
-    if (!e->viscous()) continue;
-    const auto& nodes = e->nodes();
-    const int part = element_part_[i];
-    const bool in_place = K && stiffness_.whole(part);  // adds to K's values
-    if (K && !in_place) values.assign(stiffness_.local_entries(part), 0.0);
-    const VecX fv = e->viscous_force_in_pattern(stacked(q, nodes), stacked(qdot, nodes), cq, cv,
-                                                !K         ? nullptr
-                                                : in_place ? K->valuePtr()
-                                                           : values.data());
-    int o = 0;
-    for (int a : nodes) {
-      const int c = coordinate_count(a);
-      f.segment(nodes_[a].q_offset, c) += fv.segment(o, c);
-      o += c;
-    }
-    if (K && !in_place) stiffness_.scatter(part, values.data(), *K);
-  }
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        return e.viscous_force_in_pattern(stacked(q, nodes), stacked(qdot, nodes), cq, cv, values);
+      },
+      f, K, Kernels::viscous_adding);
   return f;
 }
 
-void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) const {
+void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
+                                Kernels kernels) const {
+  const bool adding = kernels == Kernels::viscous_adding;
   std::vector<double> values;
   bool touched = false;  // whether K has received values yet (it starts at zero)
   for (std::size_t i = 0; i < elements_.size(); ++i) {
     const auto& e = elements_[i];
+    if (adding && !e->viscous()) continue;
     const auto& nodes = e->nodes();
     const int part = element_part_[i];
-    // An element whose pattern is the whole global one (a patch alone) writes in place.
-    const bool in_place = K && !touched && stiffness_.whole(part);
-    if (K && !in_place) values.resize(stiffness_.local_entries(part));
+    // An element whose pattern is the whole global one (a patch alone) writes in place: always
+    // when its kernel adds to the values, else only while K is still zero.
+    const bool in_place = K && (adding || !touched) && stiffness_.whole(part);
+    if (K && !in_place) {
+      if (adding)
+        values.assign(stiffness_.local_entries(part), 0.0);
+      else
+        values.resize(stiffness_.local_entries(part));
+    }
     const VecX dv = kernel(*e, nodes, !K ? nullptr : in_place ? K->valuePtr() : values.data());
     int o = 0;
     for (int a : nodes) {

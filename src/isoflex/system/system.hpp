@@ -247,8 +247,12 @@ class System {
   std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
   using ElementKernel =
       std::function<VecX(const elements::Element&, const std::vector<int>& nodes, double* values)>;
+  // Every element, whose kernel overwrites its matrix values; or only the viscous elements
+  // (Element::viscous), whose kernel adds to them.
+  enum class Kernels { all_overwriting, viscous_adding };
   // f += the kernel's vector per element, K += its matrix values (fixed pattern).
-  void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K) const;
+  void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
+                          Kernels kernels = Kernels::all_overwriting) const;
   void add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* K, VecX* fext) const;
   // Compile phases (system_compile.cpp), in this order; Build carries what they pass on.
   struct Build;
