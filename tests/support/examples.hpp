@@ -24,4 +24,12 @@ inline std::string replaced(std::string text, const std::string& from, const std
   return text;
 }
 
+// `text` with every `from` replaced by `to` (a failed expectation if there is none).
+inline std::string replaced_all(std::string text, const std::string& from, const std::string& to) {
+  EXPECT_NE(text.find(from), std::string::npos) << from;
+  for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
 }  // namespace isoflex::test
