@@ -19,6 +19,7 @@
 #include "support/examples.hpp"
 #include "support/files.hpp"
 #include "support/geometry.hpp"
+#include "support/sanitizers.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -52,6 +53,7 @@ double corner_load(double t) {
 // t = 70 at the static equilibrium under 2 + 2 at the corners: a large deflection (tip 6.42 up on
 // a length of 10).
 TEST(KLCantileverTransient, ImplicitEulerComesToRestAtTheStaticDeflection) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const model::Model m = cantilever();
   const test::Trajectory r = test::simulate(m);
   ASSERT_EQ(r.snapshots.size(), 701u);
@@ -94,6 +96,7 @@ TEST(KLCantileverTransient, EnergyMomentumEnergyIsTheWorkOfTheLoads) {
 // The study script on a small set: p = 2 and 3 at h = 2.5 against p = 4 with 8 elements, two
 // integrators, 3 s. The higher degree has the smaller error.
 TEST(KLCantileverTransient, ErrorStudyScript) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   const test::TempDir dir(test::temp_dir("isoflex_", "transient_error"));
   const std::string table = (dir.path() / "table.md").string();
   const auto r = test::run_shell(
