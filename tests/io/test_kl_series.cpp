@@ -242,7 +242,7 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
   TempDir dir;
   write_series(dir.path(), 5);
   const model::Model m = plate_model();
-  const auto patch = system::kl_patch(m, 0);
+  const auto patch = system::kl_patch(m, 0, system::kl_surface(m, m.kl_shells[0]));
   const VecX& x = plate_run().back().kl_patches.front().x;
   const std::string expected = io::kl_shell_vtu(*patch, system::kl_kinematics(m), x, 4);
   EXPECT_EQ(read_text(dir.path() / "vtk/plate_000005.vtu"), expected);

@@ -173,6 +173,32 @@ void print_kl_check(const model::Model& m, const system::KLPatchInstance& P, std
              P.element->kinematics() == elements::KLKinematics::linear ? "linear" : "nonlinear");
 }
 
+// The interfaces between Kirchhoff–Love patches: which edges, how many triples, the angle, the
+// coupling, and what was refined to make them conforming.
+void print_kl_interfaces(const system::System& sys, std::FILE* out) {
+  const auto& faces = sys.kl_interfaces();
+  if (sys.kl_patches().size() < 2) return;
+  fmt::print(out,
+             "kl interfaces    {} (edges coincide within {:.3g}; their control points are one "
+             "node each)\n",
+             faces.size(), sys.kl_joining().tolerance);
+  for (const system::KLInterfaceInstance& I : faces) {
+    const system::KLInterface& f = I.geometry;
+    const std::string angle = std::abs(f.angle_max - f.angle_min) < 0.05
+                                  ? fmt::format("{:.1f}°", f.angle_min)
+                                  : fmt::format("{:.1f}° … {:.1f}°", f.angle_min, f.angle_max);
+    const std::string coupling =
+        I.coupling == model::KLCoupling::c0
+            ? std::string("c0 (a hinge: no bending moment across)")
+            : fmt::format("bending_strip (β = {:g}, E_s = {:g})", I.beta, I.young);
+    fmt::print(out, "  {} {} -- {} {}{}: {} triples, angle {}, coupling {}\n", I.a,
+               loads::to_string(f.edge_a), I.b, loads::to_string(f.edge_b),
+               f.reversed ? " (reversed)" : "", f.triples(), angle, coupling);
+  }
+  for (const std::string& r : sys.kl_joining().refinements)
+    fmt::print(out, "  made conforming: {}\n", r);
+}
+
 // A static analysis: load steps, the linear conditions and the unknowns.
 void print_static_check(const system::System& sys, const model::Solver& solver, std::FILE* out) {
   const integrate::StaticEquilibrium eq(sys, solver);
@@ -275,6 +301,7 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
   }
   const auto& sys = *l->sys;
   for (const system::KLPatchInstance& P : sys.kl_patches()) print_kl_check(l->model, P, out);
+  print_kl_interfaces(sys, out);
   const int m_int = sys.internal_rows();
   // Counts per node kind (math/node_kind.hpp), the kinds present only.
   std::string kinds;

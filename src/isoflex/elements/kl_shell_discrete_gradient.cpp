@@ -98,7 +98,7 @@ VecX KLShellPatch::discrete_gradient_into(const VecX& xn, const VecX& xn1, KLKin
     if (values) std::for_each(values, values + m.pattern.nonZeros(), [](double& v) { v *= 0.5; });
     return r;
   }
-  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const double t = m.membrane_thickness(), tb = m.bending_thickness();
   const int nf = m.n_fun;
   VecX r = VecX::Zero(xn.size());
   if (values) std::fill_n(values, m.pattern.nonZeros(), 0.0);

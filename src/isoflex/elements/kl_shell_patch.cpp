@@ -68,9 +68,12 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
                            int rule_v) {
   reference.validate();
   const int p = reference.degree_u(), q = reference.degree_v();
-  if (p < 2 || q < 2)
+  if (p < 2 || q < (section.bending_strip ? 1 : 2))
     fail("degree (" + std::to_string(p) + ", " + std::to_string(q) +
-         "): a Kirchhoff–Love shell needs degree ≥ 2 in both directions (C¹, second derivatives)");
+         (section.bending_strip
+              ? "): a bending strip needs degree ≥ 2 across (ξ) and ≥ 1 along (η)"
+              : "): a Kirchhoff–Love shell needs degree ≥ 2 in both directions (C¹, second "
+                "derivatives)"));
   if ((p + 1) * (q + 1) > kl::kMaxFunctions)
     fail("degree (" + std::to_string(p) + ", " + std::to_string(q) +
          "): (p+1)(q+1) = " + std::to_string((p + 1) * (q + 1)) + " > " +
@@ -122,6 +125,12 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
       const double w = m.rule_u.weights[i] * m.rule_v.weights[j] * jac;
       kl::ReferencePoint& r = m.points[static_cast<std::size_t>(e) * m.n_qp + g];
       r = kl::reference_point(Impl::view(eb, g), Xl, w, section.young, section.poisson);
+      if (section.bending_strip) {
+        // (4.29)–(4.31): Ê₁₁ = ‖A₁‖⁻² E₁₁ in the Cartesian frame e₁ = A₁/‖A₁‖, so the one
+        // non-zero curvilinear entry is E_s ‖A₁‖⁻⁴.
+        r.C.setZero();
+        r.C(0, 0) = section.young / (r.A_cov(0) * r.A_cov(0));
+      }
       if (!(r.J0 > 1e-12 * r.A1.norm() * r.A2.norm()))
         fail("degenerate reference geometry at (xi, eta) = (" + exact_text(eb.xi[i]) + ", " +
              exact_text(eb.eta[j]) + "): |A1 x A2| = " + exact_text(r.J0));
@@ -240,7 +249,7 @@ double KLShellPatch::kinetic_energy(const VecX& velocity) const {
 double KLShellPatch::energy(const VecX& x, KLKinematics kin) const {
   const Impl& m = *impl_;
   m.check_size(x, "energy");
-  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const double t = m.membrane_thickness(), tb = m.bending_thickness();
   const bool linear = kin == KLKinematics::linear;
   const VecX X = linear ? m.reference_positions() : VecX();
   geometry::ElementBasis eb;
@@ -305,7 +314,7 @@ VecX KLShellPatch::internal_force(const VecX& x, KLKinematics kin, SpMat* K) con
 VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* values) const {
   const Impl& m = *impl_;
   m.check_size(x, "internal_force");
-  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const double t = m.membrane_thickness(), tb = m.bending_thickness();
   const bool linear = kin == KLKinematics::linear;
   const int nf = m.n_fun;
   const VecX X = linear ? m.reference_positions() : VecX();

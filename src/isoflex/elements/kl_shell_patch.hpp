@@ -28,6 +28,10 @@ struct KLShellSection {
   double density = 0.0;  // mass per volume (mass matrix, self-weight)
   // Kelvin–Voigt damping factor η (time): viscous stresses S_v = η C Ė (IGA-thesis (3.51)–(3.52)).
   double eta = 0.0;
+  // A bending strip (IGA-thesis §4.4.2): no membrane stiffness (4.28) and bending stiffness E
+  // (`young`) only across the strip, along ξ, in local Cartesian components (4.29), so that the
+  // energy density is ½ (t³/12) E ‖A₁‖⁻⁴ (E^f₁₁)² (4.30)–(4.31); linear along η is allowed.
+  bool bending_strip = false;
 };
 
 // nonlinear: Green–Lagrange strains (3.9)–(3.12). linear: the strains linearized about the
@@ -54,7 +58,8 @@ class KLShellPatch {
  public:
   // rule_u, rule_v: Gauss points per knot span and direction; 0 = p + 1 (q + 1), the default.
   // Throws std::invalid_argument for a degree < 2 in either direction (a Kirchhoff–Love shell
-  // needs C¹ inside the patch: second derivatives), more than 36 functions per element
+  // needs C¹ inside the patch: second derivatives; a bending strip needs them across only), more
+  // than 36 functions per element
   // ((p+1)(q+1) > 36, the fixed-size kernel), a non-positive E, thickness or density < 0,
   // ν outside (−1, 0.5), a negative rule, an invalid surface (NurbsSurface::validate), or a
   // degenerate reference point (|A₁ × A₂| ≤ 10⁻¹² |A₁||A₂| at a quadrature point).

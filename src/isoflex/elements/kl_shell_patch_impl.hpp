@@ -37,6 +37,10 @@ struct KLShellPatch::Impl {
   mutable std::vector<double> linear_values;
 
   VecX reference_positions() const;
+  // The thicknesses the membrane and bending resultants are integrated with: t and t³/12, the
+  // membrane 0 for a bending strip (IGA-thesis (4.28)).
+  double membrane_thickness() const { return sec.bending_strip ? 0.0 : sec.thickness; }
+  double bending_thickness() const { return sec.thickness * sec.thickness * sec.thickness / 12.0; }
   // Threads internal_force uses when asked for `threads` (fewer on small patches).
   int workers(int threads) const;
   // Local control points of element e taken from x (3·ncp).

@@ -46,7 +46,7 @@ VecX KLShellPatch::viscous_force_into(const VecX& x, const VecX& xdot, KLKinemat
   VecX r = VecX::Zero(x.size());
   const double eta = m.sec.eta;
   if (eta == 0.0) return r;
-  const double t = m.sec.thickness, tb = t * t * t / 12.0;
+  const double t = m.membrane_thickness(), tb = m.bending_thickness();
   const bool linear = kin == KLKinematics::linear;
   const int nf = m.n_fun;
   const int workers = m.workers(threads_);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "isoflex/solve/linear_solver.hpp"
+
 namespace isoflex::integrate {
 
 using system::SpMat;
@@ -109,6 +111,17 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
   problem_.evaluate(x, t, J != nullptr, ev);
   if (J) *J = MatX(ev.K);
   return ev.r;
+}
+
+double StaticEquilibrium::newton_matrix_condition(double t, const VecX& x) const {
+  MatX J;
+  residual(t, x, &J);
+  const system::DofMap map =
+      system::DofMap::build(static_cast<int>(J.rows()), sys_.linear_constraints().eliminated);
+  MatX Jf(map.n_free(), map.n_free());
+  for (int j = 0; j < map.n_free(); ++j)
+    for (int i = 0; i < map.n_free(); ++i) Jf(i, j) = J(map.free[i], map.free[j]);
+  return solve::condition_number(Jf);
 }
 
 }  // namespace isoflex::integrate

@@ -50,6 +50,9 @@ class StaticEquilibrium {
   StaticResult solve(const StaticObserver& observer = {}) { return solver_.solve(observer); }
   // R(x, t) and (if J is not null) J(x, t) (tests).
   VecX residual(double t, const VecX& x, MatX* J) const;
+  // The 2-norm condition number of J(x, t) over the unknowns the solver solves for (the eliminated
+  // coordinates removed): dense SVD, for studies (bench/kl_multipatch_bench), not for runs.
+  double newton_matrix_condition(double t, const VecX& x) const;
 
  private:
   const system::System& sys_;

@@ -266,4 +266,49 @@ std::vector<model::KLLoad> KLShellReader::loads(const YAML::Node& list,
   return out;
 }
 
+model::KLCoupling KLShellReader::coupling(const YAML::Node& n, const std::string& key) const {
+  const std::string c = string(n, key);
+  if (c == "c0") return model::KLCoupling::c0;
+  if (c == "bending_strip") return model::KLCoupling::bending_strip;
+  fail(n, key, "unknown coupling \"" + c + "\" (expected c0 or bending_strip)");
+}
+
+model::KLInterfaces KLShellReader::interfaces(const YAML::Node& n, const model::Model& m) const {
+  model::KLInterfaces out;
+  if (!n || n.IsNull()) return out;
+  const std::string p = "kl_interfaces";
+  expect_map(n, p);
+  check_keys(n, p, {"coupling", "beta", "tolerance", "pairs"});
+  out.source = source(n);
+  if (const auto c = n["coupling"]) out.coupling = coupling(c, join(p, "coupling"));
+  if (const auto b = n["beta"]) out.beta = positive(b, join(p, "beta"));
+  if (const auto t = n["tolerance"]) {
+    out.tolerance = positive(t, join(p, "tolerance"));
+    if (out.tolerance > 0.01)
+      fail(t, join(p, "tolerance"),
+           "at most 0.01 (relative to the diagonal of the shells' control-point box)");
+  }
+  if (const auto list = n["pairs"]) {
+    const std::string lp = join(p, "pairs");
+    if (!list.IsSequence()) fail(list, lp, "expected a list of {shells: [a, b], coupling, beta}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const YAML::Node e = list[i];
+      const std::string ep = indexed(lp, i);
+      expect_map(e, ep);
+      check_keys(e, ep, {"shells", "coupling", "beta"});
+      model::KLInterfacePair pair{"", "", out.coupling, out.beta, source(e)};
+      const YAML::Node sh = require(e, ep, "shells");
+      if (!sh.IsSequence() || sh.size() != 2)
+        fail(sh, join(ep, "shells"), "expected the names of two kl_shells");
+      pair.a = find_shell(sh[0], indexed(join(ep, "shells"), 0), m).name;
+      pair.b = find_shell(sh[1], indexed(join(ep, "shells"), 1), m).name;
+      if (pair.a == pair.b) fail(sh, join(ep, "shells"), "two different kl_shells");
+      if (const auto c = e["coupling"]) pair.coupling = coupling(c, join(ep, "coupling"));
+      if (const auto b = e["beta"]) pair.beta = positive(b, join(ep, "beta"));
+      out.pairs.push_back(std::move(pair));
+    }
+  }
+  return out;
+}
+
 }  // namespace isoflex::io

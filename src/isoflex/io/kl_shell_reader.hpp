@@ -1,6 +1,7 @@
 #pragma once
 // The Kirchhoff–Love shell blocks of a model file (docs/model-files.md "kl_shells"): `kl_shells`
-// (isogeometric shell patches on surfaces of `surfaces`), `kl_supports` and `kl_loads`. Called
+// (isogeometric shell patches on surfaces of `surfaces`), `kl_supports`, `kl_loads` and
+// `kl_interfaces`. Called
 // by io::read_model; errors follow its conventions (FILE:LINE: kl_shells[i].KEY: message).
 #include <yaml-cpp/yaml.h>
 
@@ -24,6 +25,7 @@ class KLShellReader : YamlFields {
                                      const std::vector<model::Surface>& surfaces) const;
   std::vector<model::KLSupport> supports(const YAML::Node& list, const model::Model& m) const;
   std::vector<model::KLLoad> loads(const YAML::Node& list, const model::Model& m) const;
+  model::KLInterfaces interfaces(const YAML::Node& n, const model::Model& m) const;
   // The parameters (ξ, η) of a point that must lie on the shell's surface; fails at `n` with
   // the distance otherwise.
   std::array<double, 2> point_on_surface(const YAML::Node& n, const std::string& key, const Vec3& x,
@@ -35,6 +37,7 @@ class KLShellReader : YamlFields {
   const model::KLShell& find_shell(const YAML::Node& n, const std::string& key,
                                    const model::Model& m) const;
   std::string edge(const YAML::Node& n, const std::string& key) const;
+  model::KLCoupling coupling(const YAML::Node& n, const std::string& key) const;
 };
 
 // The surface a Kirchhoff–Love shell lies on.

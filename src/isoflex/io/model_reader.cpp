@@ -75,10 +75,11 @@ class Reader : YamlFields {
     if (!root.IsMap())
       fail(root, "", "a model file must be a YAML mapping with the keys name, gravity, ...");
     expect_map(root, "");
-    check_keys(root, "",
-               {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
-                "distributed_loads", "probes", "surfaces", "shells", "shell_supports",
-                "shell_connections", "shell_loads", "kl_shells", "kl_supports", "kl_loads"});
+    check_keys(
+        root, "",
+        {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
+         "distributed_loads", "probes", "surfaces", "shells", "shell_supports", "shell_connections",
+         "shell_loads", "kl_shells", "kl_supports", "kl_loads", "kl_interfaces"});
     Model m;
     m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -152,6 +153,7 @@ class Reader : YamlFields {
     m.shell_loads = shells.loads(root["shell_loads"], m.shells);
     m.kl_supports = kl.supports(root["kl_supports"], m);
     m.kl_loads = kl.loads(root["kl_loads"], m);
+    m.kl_interfaces = kl.interfaces(root["kl_interfaces"], m);
     return m;
   }
 

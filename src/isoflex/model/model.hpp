@@ -314,6 +314,26 @@ struct KLLoad {
   Source source;
 };
 
+// How Kirchhoff–Love patches are joined along the edges they share (IGA-thesis §4.4;
+// docs/model-files.md "kl_interfaces", docs/theory/multipatch.md). The shared control points are
+// one node either way (C⁰, (4.36c)); c0 alone is a hinge (Fig. 6.20b), bending_strip adds the
+// penalty strip of §4.4.2 with stiffness E_s = β E.
+enum class KLCoupling { c0, bending_strip };
+struct KLInterfacePair {  // the setting of the interfaces between two shells
+  std::string a, b;
+  KLCoupling coupling = KLCoupling::bending_strip;
+  double beta = 1e3;
+  Source source;
+};
+struct KLInterfaces {
+  KLCoupling coupling = KLCoupling::bending_strip;
+  double beta = 1e3;  // β₁ = E_s / E of the bending strips (4.40)
+  // Two points coincide within this times the diagonal of the box of all KL control points.
+  double tolerance = 1e-6;
+  std::vector<KLInterfacePair> pairs;
+  Source source;
+};
+
 enum class Formulation { constrained, nullspace, reparametrized };
 
 // The time integrator of a dynamic run (integrate/time_integrator.hpp): the energy–momentum
@@ -370,6 +390,7 @@ struct Model {
   std::vector<KLShell> kl_shells;
   std::vector<KLSupport> kl_supports;
   std::vector<KLLoad> kl_loads;
+  KLInterfaces kl_interfaces;
   Solver solver;
   Output output;
 };

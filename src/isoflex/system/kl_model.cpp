@@ -36,12 +36,13 @@ const geometry::NurbsSurface& kl_surface(const model::Model& m, const model::KLS
   return surf->surface;
 }
 
-std::shared_ptr<elements::KLShellPatch> kl_patch(const model::Model& m, int index) {
+std::shared_ptr<elements::KLShellPatch> kl_patch(const model::Model& m, int index,
+                                                 const geometry::NurbsSurface& g) {
   const model::KLShell& s = m.kl_shells[index];
   try {
     return std::make_shared<elements::KLShellPatch>(
-        kl_surface(m, s), elements::KLShellSection{s.E, s.nu, s.thickness, s.density, s.eta},
-        s.quadrature[0], s.quadrature[1]);
+        g, elements::KLShellSection{s.E, s.nu, s.thickness, s.density, s.eta}, s.quadrature[0],
+        s.quadrature[1]);
   } catch (const std::invalid_argument& e) {
     compile_fail(s.source, fmt::format("kl_shells[{}]", index), e.what());
   }
@@ -51,11 +52,12 @@ elements::KLKinematics kl_kinematics(const model::Model& m) {
   return m.solver.linear ? elements::KLKinematics::linear : elements::KLKinematics::nonlinear;
 }
 
-loads::PatchLoads kl_patch_loads(const model::Model& m, const model::KLShell& s) {
-  const geometry::NurbsSurface& g = kl_surface(m, s);
+loads::PatchLoads kl_patch_loads(const model::Model& m, const model::KLShell& s,
+                                 const geometry::NurbsSurface& g) {
   const geometry::QuadratureOrder order{s.quadrature[0], s.quadrature[1]};
   loads::PatchLoads out;
   for (const model::KLLoad& l : m.kl_loads) {
+    if (l.shell != s.name) continue;
     try {
       switch (l.kind) {
         case model::KLLoadKind::area_force:

@@ -91,44 +91,6 @@ int System::joint_of_row(int row) const {
   return -1;
 }
 
-// Kirchhoff–Love patches (docs/model-files.md "kl_shells"): a point node "<shell>[A]" per control
-// point A, the patch as one element over them, its kl_loads. Supports and multipatch coupling
-// are not yet constraints of the system: a dynamic model with kl_supports is refused.
-void System::add_kl_patches(const model::Model& m) {
-  if (m.kl_shells.empty()) return;
-  if (m.kl_shells.size() > 1)
-    fail(m.kl_shells[1].source, "kl_shells[1]",
-         "one Kirchhoff–Love patch per model for now (multipatch coupling is not built yet)");
-  const model::KLShell& S = m.kl_shells.front();
-  if (m.solver.analysis == model::Analysis::dynamic && !(S.density > 0.0))
-    fail(S.source, "kl_shells[0].material.density",
-         "a dynamic run needs the shell's mass: give a density > 0, or solver.analysis: static "
-         "for its equilibrium");
-  KLPatchInstance inst;
-  inst.name = S.name;
-  auto patch = kl_patch(m, 0);
-  const int group = static_cast<int>(m.beams.size() + m.shells.size());
-  const geometry::NurbsSurface& g = patch->reference();
-  for (int A = 0; A < patch->control_points(); ++A) {
-    inst.nodes.push_back(node_count());
-    add_node(NodeKind::point, g.points[A], fmt::format("{}[{}]", S.name, A), group);
-  }
-  auto element = std::make_unique<elements::KLPatchElement>(patch, kl_kinematics(m), inst.nodes);
-  inst.element = element.get();
-  inst.element_index = static_cast<int>(elements_.size());
-  elements_.push_back(std::move(element));
-  loads::PatchLoads patch_loads = kl_patch_loads(m, S);
-  if (!patch_loads.empty()) {
-    // The element's pattern is kept only for a follower's tangent (it is as large as the patch).
-    const bool follower = std::any_of(patch_loads.begin(), patch_loads.end(),
-                                      [](const auto& L) { return L->follower(); });
-    loads_.push_back(std::make_shared<loads::PatchLoadSet>(
-        inst.nodes, std::move(patch_loads),
-        follower ? inst.element->pattern() : loads::Load::SpMat()));
-  }
-  kl_patches_.push_back(std::move(inst));
-}
-
 void System::set_threads(int threads) {
   for (KLPatchInstance& P : kl_patches_) {
     auto patch = std::make_shared<elements::KLShellPatch>(P.element->patch());  // shares the data

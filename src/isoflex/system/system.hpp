@@ -37,6 +37,7 @@
 #include "isoflex/model/model.hpp"
 #include "isoflex/system/compile_error.hpp"
 #include "isoflex/system/global_matrix.hpp"
+#include "isoflex/system/kl_interfaces.hpp"
 #include "isoflex/system/linear_constraints.hpp"
 
 namespace isoflex::system {
@@ -90,6 +91,28 @@ struct KLPatchInstance {
   std::vector<int> nodes;
   const elements::KLPatchElement* element = nullptr;
   int element_index = -1;  // in System::elements()
+  // Knots or degree were added to join it to a neighbour: its control points are numbered
+  // differently from the model's surface.
+  bool renumbered = false;
+};
+
+// An interface between two Kirchhoff–Love patches (system/kl_interfaces.hpp): its shared control
+// points are one node (C⁰); a bending strip, if the coupling has one, is an element over its
+// triples.
+struct KLInterfaceInstance {
+  std::string a, b;  // the shells
+  KLInterface geometry;
+  model::KLCoupling coupling = model::KLCoupling::c0;
+  double beta = 0.0;       // E_s / E of the strip (bending_strip)
+  double young = 0.0;      // E_s of the strip
+  int element_index = -1;  // the strip in System::elements(), −1 for none
+};
+
+// How the Kirchhoff–Love patches were joined: the tolerance of coincidence and what was refined
+// to make interfaces conforming.
+struct KLJoiningReport {
+  double tolerance = 0.0;
+  std::vector<std::string> refinements;
 };
 
 // A material point followed by a probe: X in the coordinates of `node`, or (KL patches) the
@@ -211,6 +234,8 @@ class System {
   // The probe's material point in q (its velocity: the same map applied to v).
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
   const std::vector<KLPatchInstance>& kl_patches() const { return kl_patches_; }
+  const std::vector<KLInterfaceInstance>& kl_interfaces() const { return kl_interfaces_; }
+  const KLJoiningReport& kl_joining() const { return kl_joining_; }
   // Linear conditions on q handled by the static solver (eliminated coordinates and multiplier
   // rows: the Kirchhoff–Love supports to the ground of a static analysis), not in constraints().
   const LinearConstraints& linear_constraints() const { return linear_; }
@@ -259,7 +284,9 @@ class System {
   void add_bodies(Build& build);
   void add_beams(Build& build);
   void add_shells(Build& build);
-  void add_kl_patches(const model::Model& m);  // system.cpp
+  void add_kl_patches(const model::Model& m);  // system_kl_patches.cpp
+  void add_kl_strips(const model::Model& m);
+  const KLPatchInstance& kl_patch_of(const std::string& shell) const;
   void finish_nodes(Build& build);
   void assemble_mass();
   void add_body_loads(Build& build);
@@ -305,6 +332,8 @@ class System {
   std::vector<std::shared_ptr<const loads::Load>> loads_;
   std::vector<ShellInstance> shells_;
   std::vector<KLPatchInstance> kl_patches_;
+  std::vector<KLInterfaceInstance> kl_interfaces_;
+  KLJoiningReport kl_joining_;
   LinearConstraints linear_;
   // discrete_force's K: the fixed pattern and the part of each element and load.
   GlobalMatrix stiffness_;

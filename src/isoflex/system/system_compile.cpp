@@ -496,19 +496,25 @@ void System::add_shell_supports(Build& build) {
 void System::add_kl_supports(Build& build) {
   const model::Model& model = build.model;
   const bool statics = model.solver.analysis == model::Analysis::statics;
-  if (statics && !kl_patches_.empty()) {
-    const KLPatchInstance& P = kl_patches_.front();  // one patch per model for now
-    const KLBoundaryConditions bcs =
-        kl_boundary_conditions(model, P.element->patch().reference(),
-                               [](const model::KLSupport& S) { return S.body.empty(); });
-    add_linear_constraints(bcs.constraints(), P.nodes);
-  }
+  if (statics)
+    for (const KLPatchInstance& P : kl_patches_) {
+      const KLBoundaryConditions bcs = kl_boundary_conditions(
+          model, P.element->patch().reference(),
+          [&](const model::KLSupport& S) { return S.body.empty() && S.shell == P.name; });
+      add_linear_constraints(bcs.constraints(), P.nodes);
+    }
   for (std::size_t k = 0; k < model.kl_supports.size(); ++k) {
     const auto& S = model.kl_supports[k];
+    if (!S.control_points.empty() && kl_patch_of(S.shell).renumbered)
+      fail(S.source, fmt::format("kl_supports[{}].control_points", k),
+           fmt::format("the control points of \"{}\" were renumbered by the knots inserted to "
+                       "join it to its neighbours (isoflex check lists them): give the support "
+                       "by edge, or refine the surfaces to match in the model file",
+                       S.shell));
     if (statics && S.body.empty()) continue;
     const std::string what = fmt::format("kl_supports[{}]", k);
     using K = model::KLSupportKind;
-    const KLPatchInstance& P = kl_patches_.front();  // the reader checked the shell's name
+    const KLPatchInstance& P = kl_patch_of(S.shell);  // the reader checked the name
     const bool attachment = S.components[0] && S.components[1] && S.components[2] &&
                             (S.kind == K::fixed || S.kind == K::clamped);
     if (!attachment && S.body.empty()) {
@@ -558,7 +564,7 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
     // eliminations, the slope rows of a clamp, the earlier edges' rows: the first `skip` rows)
     // are theirs to impose.
     auto fixing = [&](const model::KLSupport& o) {
-      return o.body.empty() &&
+      return o.body.empty() && o.shell == S.shell &&
              (o.kind == K::fixed || o.kind == K::clamped || (o.kind == K::displacement && &o < &S));
     };
     skip = kl_boundary_conditions(model, g, fixing).constraints().multipliers();
