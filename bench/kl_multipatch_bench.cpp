@@ -3,18 +3,26 @@
 // coupling given. Per run, one CSV row: the coupling, β₁, the displacement of probe PROBE at the
 // last load step, the Newton iterations, the unknowns, and the 2-norm condition number of the
 // static Newton matrix at the converged state over the unknowns the solver solves for (the
-// eliminated coordinates removed; dense SVD).
+// eliminated coordinates removed; dense SVD), and with --angle-at the relative change
+// |θ − θ₀|/θ₀ of the angle between the patches at the interface triple whose shared control
+// point is nearest to the given point (the angle of the triple's legs, which are the tangents
+// across the edge: Fig. 6.21's error; in a linear analysis its linearized change).
 //
-//   kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4] [--couplings c0]
+//   kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4]
+//                       [--couplings c0,strip_constraints,angle] [--angle-at X,Y,Z]
 //
-// Output on stdout: `coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number`
-// (a failed run: its message on stderr and empty columns). docs/theory/multipatch.md.
+// Output on stdout: `coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number,
+// angle_error` (a failed run: its message on stderr and empty columns).
+// docs/theory/multipatch.md.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,13 +39,15 @@ struct Options {
   std::string model, probe;
   std::vector<double> betas{1.0, 1e2, 1e4};
   std::vector<std::string> couplings;  // besides bending_strip
+  std::optional<Vec3> angle_at;
 };
 
 [[noreturn]] void usage(const std::string& msg) {
   std::fprintf(stderr,
                "kl_multipatch_bench: %s\n"
-               "usage: kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4] "
-               "[--couplings c0]\n",
+               "usage: kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4]\n"
+               "                           [--couplings c0,strip_constraints,angle] "
+               "[--angle-at X,Y,Z]\n",
                msg.c_str());
   std::exit(2);
 }
@@ -54,6 +64,16 @@ Options parse(int argc, char** argv) {
         o.betas.push_back(bench::parse_double(b, "beta", usage));
     } else if (args.is("--couplings")) {
       o.couplings = bench::split(args.value());
+    } else if (args.is("--angle-at")) {
+      const auto c = bench::split(args.value());
+      if (c.size() != 3) usage("--angle-at needs X,Y,Z");
+      Vec3 x;
+      for (int k = 0; k < 3; ++k) {
+        char* end = nullptr;
+        x[k] = std::strtod(c[static_cast<std::size_t>(k)].c_str(), &end);
+        if (*end != '\0') usage("bad coordinate '" + c[static_cast<std::size_t>(k)] + "'");
+      }
+      o.angle_at = x;
     } else if (o.model.empty() && args.arg()[0] != '-') {
       o.model = args.arg();
     } else {
@@ -65,7 +85,37 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-void run(const model::Model& m, const std::string& probe, const std::string& label, double beta) {
+// The angle of the legs of a triple (inner a, shared, inner b) in q.
+double triple_angle(const system::System& sys, const VecX& q, const std::array<int, 3>& nodes) {
+  const VecX x = sys.stacked(q, {nodes[0], nodes[1], nodes[2]});
+  const Vec3 a = x.segment<3>(0) - x.segment<3>(3), b = x.segment<3>(6) - x.segment<3>(3);
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// The triple nodes of the interface triple whose shared point is nearest to p.
+std::array<int, 3> nearest_triple(const system::System& sys, const Vec3& p) {
+  std::array<int, 3> best{-1, -1, -1};
+  double d = INFINITY;
+  for (const auto& I : sys.kl_interfaces()) {
+    const auto& f = I.geometry;
+    const auto& na = sys.kl_patch_of(I.a).nodes;
+    const auto& nb = sys.kl_patch_of(I.b).nodes;
+    for (int k = 0; k < f.triples(); ++k) {
+      const std::array<int, 3> t{na[f.inner_a[k]], na[f.shared_a[k]], nb[f.inner_b[k]]};
+      const double dk = (Vec3(sys.stacked(sys.q0(), {t[1]})) - p).norm();
+      if (dk < d) {
+        d = dk;
+        best = t;
+      }
+    }
+  }
+  if (best[0] < 0) usage("--angle-at: the model has no interface");
+  return best;
+}
+
+// One run: compile, solve, print the row (throws what compile and the solver throw).
+void solve_and_print(const model::Model& m, const std::string& probe, const std::string& label,
+                     double beta, const std::optional<Vec3>& angle_at) {
   const auto sys = system::System::compile(m);
   const auto it = std::find_if(sys.probes().begin(), sys.probes().end(),
                                [&](const auto& p) { return p.name == probe; });
@@ -73,18 +123,35 @@ void run(const model::Model& m, const std::string& probe, const std::string& lab
   integrate::StaticEquilibrium eq(sys, m.solver);
   int iterations = 0;
   double t = 0.0;
+  const integrate::StaticResult r = eq.solve([&](const integrate::LoadStepStats& st, const VecX&) {
+    iterations += st.iterations;
+    t = st.t;
+  });
+  const VecX dq = r.x.head(sys.n()) - sys.q0();
+  const Vec3 u = sys.probe_point(sys.q0() + dq, *it) - sys.probe_point(sys.q0(), *it);
+  std::string angle;
+  if (angle_at) {
+    const std::array<int, 3> T = nearest_triple(sys, *angle_at);
+    const double th0 = triple_angle(sys, sys.q0(), T);
+    // A linear analysis: the linearized change θ'(Δq), (θ(q₀ + Δq) − θ(q₀ − Δq))/2 (the
+    // quadratic part of θ(q₀ + s Δq) cancels), so that the constraints' own accuracy shows.
+    const double dth =
+        m.solver.linear
+            ? 0.5 * (triple_angle(sys, sys.q0() + dq, T) - triple_angle(sys, sys.q0() - dq, T))
+            : triple_angle(sys, sys.q0() + dq, T) - th0;
+    angle = fmt::format("{:.6g}", std::abs(dth) / th0);
+  }
+  fmt::print("{},{:g},{:.12g},{:.12g},{:.12g},{},{},{:.6g},{}\n", label, beta, u.x(), u.y(), u.z(),
+             iterations, eq.unknowns(), eq.newton_matrix_condition(t, r.x), angle);
+}
+
+void run(const model::Model& m, const std::string& probe, const std::string& label, double beta,
+         const std::optional<Vec3>& angle_at) {
   try {
-    const integrate::StaticResult r =
-        eq.solve([&](const integrate::LoadStepStats& st, const VecX&) {
-          iterations += st.iterations;
-          t = st.t;
-        });
-    const Vec3 u = sys.probe_point(r.x.head(sys.n()), *it) - sys.probe_point(sys.q0(), *it);
-    fmt::print("{},{:g},{:.12g},{:.12g},{:.12g},{},{},{:.6g}\n", label, beta, u.x(), u.y(), u.z(),
-               iterations, eq.unknowns(), eq.newton_matrix_condition(t, r.x));
-  } catch (const std::exception& e) {
+    solve_and_print(m, probe, label, beta, angle_at);
+  } catch (const std::exception& e) {  // a model this coupling cannot compile, or no convergence
     std::fprintf(stderr, "%s, beta %g: %s\n", label.c_str(), beta, e.what());
-    fmt::print("{},{:g},,,,,{},\n", label, beta, eq.unknowns());
+    fmt::print("{},{:g},,,,,,,\n", label, beta);
   }
   std::fflush(stdout);
 }
@@ -95,20 +162,26 @@ int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
   model::Model m = io::read_model(o.model);
   m.solver.analysis = model::Analysis::statics;
-  fmt::print("coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number\n");
+  fmt::print("coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number,angle_error\n");
   for (double beta : o.betas) {
     model::Model mb = m;
     mb.kl_interfaces.coupling = model::KLCoupling::bending_strip;
     mb.kl_interfaces.beta = beta;
     mb.kl_interfaces.pairs.clear();
-    run(mb, o.probe, "bending_strip", beta);
+    run(mb, o.probe, "bending_strip", beta, o.angle_at);
   }
   for (const std::string& c : o.couplings) {
-    if (c != "c0") usage("unknown coupling '" + c + "' (this bench knows c0)");
     model::Model mc = m;
-    mc.kl_interfaces.coupling = model::KLCoupling::c0;
+    if (c == "c0")
+      mc.kl_interfaces.coupling = model::KLCoupling::c0;
+    else if (c == "strip_constraints")
+      mc.kl_interfaces.coupling = model::KLCoupling::strip_constraints;
+    else if (c == "angle")
+      mc.kl_interfaces.coupling = model::KLCoupling::angle;
+    else
+      usage("unknown coupling '" + c + "' (c0, strip_constraints or angle)");
     mc.kl_interfaces.pairs.clear();
-    run(mc, o.probe, c, 0.0);
+    run(mc, o.probe, c, 0.0, o.angle_at);
   }
   return 0;
 }

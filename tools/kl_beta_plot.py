@@ -1,15 +1,16 @@
 #!/usr/bin/python3
 """Plot a multipatch penalty study (like IGA-thesis Figs. 6.17, 6.21, 6.23, 6.26).
 
-usage: kl_beta_plot.py CSV --out FILE.png [--component x|y|z] [--reference VALUE]
+usage: kl_beta_plot.py CSV --out FILE.png [--component x|y|z|angle] [--reference VALUE]
                        [--reference-label TEXT] [--single-condition VALUE] [--title TEXT]
 
 CSV is the output of bench/kl_multipatch_bench (coupling, beta, ux, uy, uz, newton_iterations,
-unknowns, condition_number). Left: the probe's displacement component against β₁ for the
-bending strips, with the reference value as a line; right: the condition number of the Newton
-matrix against β₁, with the single patch's as a line. Rows of other couplings (no β₁) are drawn
-as horizontal lines; failed runs (empty columns) and infinite condition numbers are left out and
-listed on stderr. Exit status 2 on a bad file or option.
+unknowns, condition_number[, angle_error]). Left: the probe's displacement component (or with
+`angle` the relative angle error |θ − θ₀|/θ₀, log scale) against β₁ for the bending strips, with
+the reference value as a line; right: the condition number of the Newton matrix against β₁, with
+the single patch's as a line. Rows of other couplings (no β₁: c0, strip_constraints, angle) are
+drawn as horizontal lines in both; failed runs (empty columns) and infinite condition numbers are
+left out and listed on stderr. Exit status 2 on a bad file or option.
 """
 import argparse
 import csv
@@ -51,7 +52,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("csv")
     ap.add_argument("--out", required=True)
-    ap.add_argument("--component", choices=["x", "y", "z"], default="x")
+    ap.add_argument("--component", choices=["x", "y", "z", "angle"], default="x")
     ap.add_argument("--reference", type=float)
     ap.add_argument("--reference-label", default="reference")
     ap.add_argument("--single-condition", type=float)
@@ -65,26 +66,34 @@ def main():
     need = {"coupling", "beta", "ux", "uy", "uz", "condition_number"}
     if not rows or not need <= set(rows[0]):
         fail(f"{a.csv}: expected the columns {', '.join(sorted(need))}")
-    key = "u" + a.component
+    key = "angle_error" if a.component == "angle" else "u" + a.component
+    if key not in rows[0]:
+        fail(f"{a.csv}: no column {key} (run the bench with --angle-at)")
     strips = [r for r in rows if r["coupling"] == "bending_strip"]
     others = [r for r in rows if r["coupling"] != "bending_strip"]
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     pts = finite_points(strips, key, "no result (the run failed)")
-    left.semilogx([b for b, _ in pts], [u for _, u in pts], "o-", label="bending strip (SBSM)")
+    plot = left.loglog if a.component == "angle" else left.semilogx
+    plot([b for b, _ in pts], [u for _, u in pts], "o-", label="bending strip (SBSM)")
     if a.reference is not None:
         left.axhline(a.reference, color="k", ls="--", lw=1, label=a.reference_label)
     for r in others:
         u = number(r[key])
         if u is not None:
-            left.axhline(u, ls=":", label=r["coupling"])
+            left.axhline(u, ls=":", color=f"C{1 + others.index(r)}", label=r["coupling"])
     left.set_xlabel("β₁ = E_s / E")
-    left.set_ylabel(f"{a.component}-displacement of the probe")
+    left.set_ylabel("|θ − θ₀| / θ₀ at the joint" if a.component == "angle"
+                    else f"{a.component}-displacement of the probe")
     left.grid(True, which="both", alpha=0.3)
     left.legend()
     cond = finite_points(strips, "condition_number", "no finite condition number")
     right.loglog([b for b, _ in cond], [c for _, c in cond], "o-", label="bending strip (SBSM)")
     if a.single_condition is not None:
         right.axhline(a.single_condition, color="k", ls="--", lw=1, label="single patch")
+    for r in others:
+        c = number(r["condition_number"])
+        if c is not None:
+            right.axhline(c, ls=":", color=f"C{1 + others.index(r)}", label=r["coupling"])
     right.set_xlabel("β₁ = E_s / E")
     right.set_ylabel("condition number of the Newton matrix")
     right.grid(True, which="both", alpha=0.3)

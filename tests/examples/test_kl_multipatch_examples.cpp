@@ -109,3 +109,106 @@ TEST(KLTwoPatchRollUp, BetaPlotScript) {
   EXPECT_EQ(no.code, 2) << no.out;
   EXPECT_NE(no.out.find("expected the columns"), std::string::npos) << no.out;
 }
+
+namespace {
+
+// examples/kl_l_shaped_plate with the given coupling (and β₁ for the strip): the load point's
+// u_z, the linearized angle change at the front triple |Δθ|/θ₀, the unknowns, and the coupling's
+// rows and independent rows.
+struct LPlate {
+  double uz = 0.0, angle = 0.0;
+  int unknowns = 0, rows = 0, independent = 0;
+};
+
+LPlate l_plate(model::KLCoupling coupling, double beta = 1e3) {
+  model::Model m =
+      io::read_model_string(test::example_text("kl_l_shaped_plate", "model.yaml"), "model.yaml");
+  m.kl_interfaces.coupling = coupling;
+  m.kl_interfaces.beta = beta;
+  const auto sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  const VecX dq = eq.solve().x.head(sys.n()) - sys.q0();
+  LPlate out;
+  const auto& probe = sys.probes().front();
+  out.uz = (sys.probe_point(sys.q0() + dq, probe) - sys.probe_point(sys.q0(), probe)).z();
+  const system::KLInterfaceInstance& I = sys.kl_interfaces().at(0);
+  const auto& f = I.geometry;
+  const int k = f.triples() - 1;  // the front triple, x = 10
+  EXPECT_NEAR(sys.stacked(sys.q0(), {sys.kl_patch_of(I.a).nodes[f.shared_a[k]]}).x(), 10.0, 1e-12);
+  const std::vector<int> T{sys.kl_patch_of(I.a).nodes[f.inner_a[k]],
+                           sys.kl_patch_of(I.a).nodes[f.shared_a[k]],
+                           sys.kl_patch_of(I.b).nodes[f.inner_b[k]]};
+  const auto angle = [&](const VecX& q) {
+    const VecX x = sys.stacked(q, T);
+    const Vec3 a = x.segment<3>(0) - x.segment<3>(3), b = x.segment<3>(6) - x.segment<3>(3);
+    return std::atan2(a.cross(b).norm(), a.dot(b));
+  };
+  const double th0 = angle(sys.q0());
+  EXPECT_NEAR(th0, std::acos(0.0), 1e-14);
+  out.angle = std::abs(0.5 * (angle(sys.q0() + dq) - angle(sys.q0() - dq))) / th0;
+  out.unknowns = eq.unknowns();
+  if (I.constraint_index >= 0) {
+    out.rows = sys.nary_constraints()[static_cast<std::size_t>(I.constraint_index)]
+                   .constraint->constraint_count();
+    out.independent = sys.independent_rows_of(I.constraint_index);
+  }
+  return out;
+}
+
+}  // namespace
+
+// IGA-thesis Fig. 6.21 (examples/kl_l_shaped_plate/README.md): the hinge turns (8.7e-2); the
+// strip's angle error falls ∝ 1/β₁; AF-BS and AF-D hold the linearized angle to round-off, AF-BS
+// the stiffer (it also holds the flange lengths, Remark 5.8); the row counts `isoflex check`
+// prints (the clamp holds the first two triples).
+TEST(KLLShapedPlate, HingeStripAndConstraints) {
+  using C = model::KLCoupling;
+  const LPlate hinge = l_plate(C::c0), af_bs = l_plate(C::strip_constraints),
+               af_d = l_plate(C::angle);
+  const LPlate s3 = l_plate(C::bending_strip, 1e3), s6 = l_plate(C::bending_strip, 1e6),
+               s9 = l_plate(C::bending_strip, 1e9);
+  std::printf("  u_z: hinge %.6f, strip 1e3 %.6f, AF-BS %.6f, AF-D %.6f\n", hinge.uz, s3.uz,
+              af_bs.uz, af_d.uz);
+  std::printf("  angle: hinge %.2e, strip 1e3 %.2e 1e6 %.2e 1e9 %.2e, AF-BS %.2e, AF-D %.2e\n",
+              hinge.angle, s3.angle, s6.angle, s9.angle, af_bs.angle, af_d.angle);
+  EXPECT_NEAR(hinge.angle, 8.7e-2, 0.1e-2);
+  EXPECT_NEAR(hinge.uz, -0.141137, 1e-6);
+  EXPECT_NEAR(af_bs.uz, -0.049947, 1e-6);
+  EXPECT_NEAR(af_d.uz, -0.049958, 1e-6);
+  EXPECT_GT(af_bs.uz, af_d.uz);  // AF-BS stiffer: the smaller deflection (u_z < 0)
+  EXPECT_LT(af_bs.angle, 1e-12);
+  EXPECT_LT(af_d.angle, 1e-9);
+  EXPECT_NEAR(s6.angle * 1e3, s9.angle * 1e6, 0.05 * s9.angle * 1e6);  // ∝ 1/β₁
+  EXPECT_LT(s9.angle, 1e-8);
+  EXPECT_EQ(hinge.unknowns, 90);
+  EXPECT_EQ(af_bs.unknowns, 99);
+  EXPECT_EQ(af_d.unknowns, 93);
+  EXPECT_EQ(af_bs.rows, 45);
+  EXPECT_EQ(af_bs.independent, 9);
+  EXPECT_EQ(af_d.rows, 5);
+  EXPECT_EQ(af_d.independent, 3);
+  const auto r = test::run_isoflex("check " + std::string(ISOFLEX_SOURCE_DIR) +
+                                   "/examples/kl_l_shaped_plate/model.yaml");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("flange v0 -- web v0: 5 triples, angle 90.0°, coupling angle (5 rows, 3 "
+                       "independent)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("unknowns         93"), std::string::npos) << r.out;
+}
+
+// AF-D on the roll-up (straight triples: the linear rows (5.36), exact in this nonlinear run):
+// the tip of the strip's limit, −11.9945132 (README.md), with 9 rows more than the strip.
+TEST(KLTwoPatchRollUp, AngleConstraintsGiveTheLimitWithoutAPenalty) {
+  model::Model m =
+      io::read_model_string(test::example_text("kl_two_patch_roll_up", "model.yaml"), "model.yaml");
+  m.kl_interfaces.coupling = model::KLCoupling::angle;
+  const auto sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  const integrate::StaticResult r = eq.solve();
+  const auto& p = sys.probes().front();
+  const double x = (sys.probe_point(r.x.head(sys.n()), p) - sys.probe_point(sys.q0(), p)).x();
+  EXPECT_EQ(eq.unknowns(), 219);
+  EXPECT_NEAR(x, -11.9945132066, 1e-9);
+  EXPECT_LT(std::abs(x - exact_tip_x()), 1e-7);
+}

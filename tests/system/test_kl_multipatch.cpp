@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "isoflex/io/model_error.hpp"
@@ -211,8 +212,8 @@ TEST(KLMultipatch, LocatedErrors) {
         << e.what();
   }
   EXPECT_NE(test::error_of(two_patch_roll_up("kl_interfaces: {coupling: glue}\n"))
-                .find("m.yaml:20: kl_interfaces.coupling: unknown coupling \"glue\" (expected c0 "
-                      "or bending_strip)"),
+                .find("m.yaml:20: kl_interfaces.coupling: unknown coupling \"glue\" (expected c0, "
+                      "bending_strip, strip_constraints or angle)"),
             std::string::npos);
   EXPECT_NE(test::error_of(two_patch_roll_up("kl_interfaces: {tolerance: 0.5}\n"))
                 .find("kl_interfaces.tolerance: at most 0.01"),
@@ -223,4 +224,74 @@ TEST(KLMultipatch, LocatedErrors) {
   EXPECT_NE(test::error_of(two_patch_roll_up("kl_interfaces: {pairs: [{shells: [left, x]}]}\n"))
                 .find("kl_interfaces.pairs[0].shells[1]: no kl_shell named \"x\""),
             std::string::npos);
+}
+
+namespace {
+
+// Two free cubic plates (2 × 2 elements each, 5 triples, n = 4 strip elements), flat or at a
+// right angle, with a coupling of rows, in a linear analysis: the coupling's rows and
+// independent rows. Without supports nothing else takes rows away.
+std::pair<int, int> coupling_rows(bool kinked, const std::string& coupling) {
+  const std::string second = kinked ? "{type: rectangle, corner: [0, 0, 0], edge_u: [10, 0, 0], "
+                                      "edge_v: [0, 0, -3]}"
+                                    : "{type: rectangle, corner: [0, 0, 0], edge_u: [10, 0, 0], "
+                                      "edge_v: [0, -3, 0]}";
+  const std::string text = R"(name: rows
+solver: {analysis: static, linear: true}
+surfaces:
+  - name: a
+    builtin: {type: rectangle, corner: [0, 0, 0], edge_u: [10, 0, 0], edge_v: [0, 1, 0]}
+    refine: {elevate: [2, 2], knots_per_span: [1, 1]}
+  - name: b
+    builtin: )" + second + R"(
+    refine: {elevate: [2, 2], knots_per_span: [1, 1]}
+kl_shells:
+  - {name: a, surface: a, material: {E: 1.2e6, nu: 0, thickness: 0.1}}
+  - {name: b, surface: b, material: {E: 1.2e6, nu: 0, thickness: 0.1}}
+kl_interfaces: {coupling: )" +
+                           coupling + "}\n";
+  const auto sys = system::System::compile(io::read_model_string(text, "m.yaml"));
+  const int c = sys.kl_interfaces().at(0).constraint_index;
+  return {sys.nary_constraints()[static_cast<std::size_t>(c)].constraint->constraint_count(),
+          sys.independent_rows_of(c)};
+}
+
+}  // namespace
+
+// IGA-thesis Conjecture 5.1: the strip forces as constraints (AF-BS, 3 × 3 × 5 = 45 rows) have
+// rank 3(n + 1) = 15 at a kink and n + 1 = 5 where the patches continue flat (n = 4 strip
+// elements, 3 × 2 quadrature points); the direct constraints (AF-D) are independent: one angle
+// row per kinked triple (5.37), three rows (5.36) per straight one.
+TEST(KLMultipatch, IndependentCouplingRowsFollowConjecture51) {
+  EXPECT_EQ(coupling_rows(true, "strip_constraints"), std::make_pair(45, 15));
+  EXPECT_EQ(coupling_rows(false, "strip_constraints"), std::make_pair(45, 5));
+  EXPECT_EQ(coupling_rows(true, "angle"), std::make_pair(5, 5));
+  EXPECT_EQ(coupling_rows(false, "angle"), std::make_pair(15, 15));
+}
+
+// The couplings whose rows are not yet built for nonlinear analyses stop the compile at the
+// kl_interfaces entry, saying why.
+TEST(KLMultipatch, NonlinearStripConstraintsAndKinkedAnglesAreLocatedErrors) {
+  const std::string strip = two_patch_roll_up("kl_interfaces: {coupling: strip_constraints}\n");
+  try {
+    system::System::compile(io::read_model_string(strip, "m.yaml"));
+    ADD_FAILURE() << "no error";
+  } catch (const system::CompileError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "m.yaml:20: kl_interfaces (left -- right): coupling strip_constraints is built "
+                  "for linear static analyses (solver.linear: true) so far"),
+              std::string::npos)
+        << e.what();
+  }
+  std::string kink = test::example_text("kl_l_shaped_plate", "model.yaml");
+  kink = test::replaced(kink, "linear: true, ", "");
+  try {
+    system::System::compile(io::read_model_string(kink, "model.yaml"));
+    ADD_FAILURE() << "no error";
+  } catch (const system::CompileError& e) {
+    EXPECT_NE(std::string(e.what()).find("coupling angle at a kink (90.0° between the patches) is "
+                                         "built for linear static analyses"),
+              std::string::npos)
+        << e.what();
+  }
 }

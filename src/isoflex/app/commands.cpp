@@ -187,10 +187,25 @@ void print_kl_interfaces(const system::System& sys, std::FILE* out) {
     const std::string angle = std::abs(f.angle_max - f.angle_min) < 0.05
                                   ? fmt::format("{:.1f}°", f.angle_min)
                                   : fmt::format("{:.1f}° … {:.1f}°", f.angle_min, f.angle_max);
-    const std::string coupling =
-        I.coupling == model::KLCoupling::c0
-            ? std::string("c0 (a hinge: no bending moment across)")
-            : fmt::format("bending_strip (β = {:g}, E_s = {:g})", I.beta, I.young);
+    std::string coupling;
+    switch (I.coupling) {
+      case model::KLCoupling::c0:
+        coupling = "c0 (a hinge: no bending moment across)";
+        break;
+      case model::KLCoupling::bending_strip:
+        coupling = fmt::format("bending_strip (β = {:g}, E_s = {:g})", I.beta, I.young);
+        break;
+      case model::KLCoupling::strip_constraints:
+      case model::KLCoupling::angle: {
+        const int c = I.constraint_index;
+        coupling = fmt::format(
+            "{} ({} rows, {} independent)",
+            I.coupling == model::KLCoupling::angle ? "angle" : "strip_constraints",
+            sys.nary_constraints()[static_cast<std::size_t>(c)].constraint->constraint_count(),
+            sys.independent_rows_of(c));
+        break;
+      }
+    }
     fmt::print(out, "  {} {} -- {} {}{}: {} triples, angle {}, coupling {}\n", I.a,
                loads::to_string(f.edge_a), I.b, loads::to_string(f.edge_b),
                f.reversed ? " (reversed)" : "", f.triples(), angle, coupling);

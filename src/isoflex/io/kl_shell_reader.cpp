@@ -270,7 +270,10 @@ model::KLCoupling KLShellReader::coupling(const YAML::Node& n, const std::string
   const std::string c = string(n, key);
   if (c == "c0") return model::KLCoupling::c0;
   if (c == "bending_strip") return model::KLCoupling::bending_strip;
-  fail(n, key, "unknown coupling \"" + c + "\" (expected c0 or bending_strip)");
+  if (c == "strip_constraints") return model::KLCoupling::strip_constraints;
+  if (c == "angle") return model::KLCoupling::angle;
+  fail(n, key,
+       "unknown coupling \"" + c + "\" (expected c0, bending_strip, strip_constraints or angle)");
 }
 
 model::KLInterfaces KLShellReader::interfaces(const YAML::Node& n, const model::Model& m) const {

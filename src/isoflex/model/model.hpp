@@ -317,8 +317,10 @@ struct KLLoad {
 // How Kirchhoff–Love patches are joined along the edges they share (IGA-thesis §4.4;
 // docs/model-files.md "kl_interfaces", docs/theory/multipatch.md). The shared control points are
 // one node either way (C⁰, (4.36c)); c0 alone is a hinge (Fig. 6.20b), bending_strip adds the
-// penalty strip of §4.4.2 with stiffness E_s = β E.
-enum class KLCoupling { c0, bending_strip };
+// penalty strip of §4.4.2 with stiffness E_s = β E, strip_constraints its forces as constraints
+// (AF-BS, §5.1; linear analyses for now), angle the continuity constraints on the triples
+// (AF-D, §5.2; at a kink in linear analyses for now).
+enum class KLCoupling { c0, bending_strip, strip_constraints, angle };
 struct KLInterfacePair {  // the setting of the interfaces between two shells
   std::string a, b;
   KLCoupling coupling = KLCoupling::bending_strip;

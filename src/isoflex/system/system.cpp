@@ -83,6 +83,13 @@ int System::nary_of_row(int row) const {
   return -1;
 }
 
+int System::independent_rows_of(int c) const {
+  const ConstraintInstance& C = nary_[static_cast<std::size_t>(c)];
+  return static_cast<int>(std::count_if(cut_rows_.begin(), cut_rows_.end(), [&](int r) {
+    return r >= C.row_offset && r < C.row_offset + C.constraint->constraint_count();
+  }));
+}
+
 int System::joint_of_row(int row) const {
   for (int j = 0; j < static_cast<int>(joints_.size()); ++j) {
     const auto& J = joints_[j];

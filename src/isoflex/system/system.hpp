@@ -106,6 +106,9 @@ struct KLInterfaceInstance {
   double beta = 0.0;       // E_s / E of the strip (bending_strip)
   double young = 0.0;      // E_s of the strip
   int element_index = -1;  // the strip in System::elements(), −1 for none
+  // strip_constraints, angle: its rows, an n-ary constraint (System::nary_constraints()), −1 for
+  // none
+  int constraint_index = -1;
 };
 
 // How the Kirchhoff–Love patches were joined: the tolerance of coincidence and what was refined
@@ -161,6 +164,8 @@ class System {
   joints::Joint::CRef node_q(const VecX& q, int node) const;
   // Which joint (index) or −1 (internal or an n-ary constraint) a row belongs to.
   int joint_of_row(int row) const;
+  // The rows of n-ary constraint c (index into nary_constraints()) kept as independent.
+  int independent_rows_of(int c) const;
   // Which n-ary constraint (index into nary_constraints()) or −1 a row belongs to.
   int nary_of_row(int row) const;
   // Independent cut rows found by pivoted QR (must agree in count with the LU selection).
@@ -235,6 +240,8 @@ class System {
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
   const std::vector<KLPatchInstance>& kl_patches() const { return kl_patches_; }
   const std::vector<KLInterfaceInstance>& kl_interfaces() const { return kl_interfaces_; }
+  // The patch of kl_shells entry `shell` (std::logic_error if there is none).
+  const KLPatchInstance& kl_patch_of(const std::string& shell) const;
   const KLJoiningReport& kl_joining() const { return kl_joining_; }
   // Linear conditions on q handled by the static solver (eliminated coordinates and multiplier
   // rows: the Kirchhoff–Love supports to the ground of a static analysis), not in constraints().
@@ -285,8 +292,10 @@ class System {
   void add_beams(Build& build);
   void add_shells(Build& build);
   void add_kl_patches(const model::Model& m);  // system_kl_patches.cpp
-  void add_kl_strips(const model::Model& m);
-  const KLPatchInstance& kl_patch_of(const std::string& shell) const;
+  void add_kl_couplings(const model::Model& m);
+  // G with the eliminated coordinates' columns zeroed and projected off the rows of the linear
+  // conditions (select_loop_rows in a static analysis).
+  SpMat modulo_linear_conditions(const SpMat& G) const;
   void finish_nodes(Build& build);
   void assemble_mass();
   void add_body_loads(Build& build);

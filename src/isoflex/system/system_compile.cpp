@@ -22,6 +22,7 @@
 #include "isoflex/loads/time_function.hpp"
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/solve/normal_equations.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/system.hpp"
 
@@ -857,7 +858,11 @@ void System::check_assembled(const Build& build) const {
 }
 
 // Loop-closing rows: independent ones by full-pivot LU of G_cut P_tree (IGA-thesis Alg. 5.1,
-// Rem. 5.5); the rest are redundant and dropped. Cross-checked by pivoted QR.
+// Rem. 5.5); the rest are redundant and dropped. Cross-checked by pivoted QR. With the linear
+// conditions of a static analysis (the KL supports: eliminated coordinates, multiplier rows C),
+// independence is modulo those: G_cut with the eliminated columns removed and projected off
+// the row space of C, so that a row a support already holds (a coupling row on a clamped edge,
+// IGA-thesis §6.4.2.2) is dropped instead of making the static Newton matrix singular.
 void System::select_loop_rows() {
   std::vector<int> cut_all;
   for (const auto& J : joints_)
@@ -871,7 +876,9 @@ void System::select_loop_rows() {
       for (int i = 0; i < J.joint->constraint_count(); ++i)
         selected_rows_.push_back(J.row_offset + i);
   if (!cut_all.empty()) {
-    const MatX Gc = MatX(jacobian_rows(q0_, cut_all) * tree_null_space(q0_));
+    SpMat Gq = jacobian_rows(q0_, cut_all);
+    if (!linear_.eliminated.empty() || linear_.multipliers() > 0) Gq = modulo_linear_conditions(Gq);
+    const MatX Gc = MatX(Gq * tree_null_space(q0_));
     const auto keep = solve::independent_rows_lu(Gc);
     cut_rank_qr_ = static_cast<int>(solve::independent_rows_qr(Gc).size());
     std::vector<bool> kept(cut_all.size(), false);
@@ -897,6 +904,29 @@ void System::select_loop_rows() {
                      "must act on free coordinates only",
                      r - C.row_offset));
   }
+}
+
+SpMat System::modulo_linear_conditions(const SpMat& G) const {
+  std::vector<bool> fixed(static_cast<std::size_t>(n()), false);
+  for (int i : linear_.eliminated) fixed[static_cast<std::size_t>(i)] = true;
+  const auto free_columns = [&](const SpMat& A) {
+    MatX out = MatX(A);
+    for (int j = 0; j < n(); ++j)
+      if (fixed[static_cast<std::size_t>(j)]) out.col(j).setZero();
+    return out;
+  };
+  MatX Gf = free_columns(G);
+  if (linear_.multipliers() > 0) {
+    // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C (on the free
+    // coordinates, where C has full row rank: the static solver needs it).
+    const SpMat C = free_columns(linear_.C).sparseView();
+    solve::NormalEquations normal;
+    for (Eigen::Index i = 0; i < Gf.rows(); ++i) {
+      const VecX g = Gf.row(i).transpose();
+      Gf.row(i) -= (C.transpose() * normal.solve(C, C * g)).transpose();
+    }
+  }
+  return Gf.sparseView();
 }
 
 // Initial velocities: the admissible twist closest (least squares in twist components) to the

@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "isoflex/elements/bending_strip.hpp"
+#include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/system.hpp"
@@ -87,14 +88,77 @@ void System::add_kl_patches(const model::Model& m) {
     I.geometry = std::move(f);
     kl_interfaces_.push_back(std::move(I));
   }
-  add_kl_strips(m);
+  add_kl_couplings(m);
 }
 
-// The coupling of each interface (kl_interfaces: model-wide, or per pair of shells) and, for
-// bending_strip, the strip of IGA-thesis §4.4.2 over its triples: E_s = β E (4.40) with E and the
-// thickness of the stiffer patch (the larger E t³), so that β is relative to the patches' own
-// bending stiffness.
-void System::add_kl_strips(const model::Model& m) {
+namespace {
+
+// The triple nodes of an interface, (inner a, shared, inner b) per triple along the edge.
+std::vector<int> triple_nodes(const KLInterface& f, const KLPatchInstance& pa,
+                              const KLPatchInstance& pb) {
+  std::vector<int> nodes;
+  for (int k = 0; k < f.triples(); ++k)
+    for (int node : {pa.nodes[f.inner_a[k]], pa.nodes[f.shared_a[k]], pb.nodes[f.inner_b[k]]})
+      nodes.push_back(node);
+  return nodes;
+}
+
+// A triple is straight (the patches continue smoothly, G¹) if its two legs are parallel.
+bool straight(const std::array<Vec3, 3>& t) {
+  const Vec3 a = t[1] - t[0], b = t[2] - t[1];
+  return a.cross(b).norm() <= 1e-8 * a.norm() * b.norm() && a.dot(b) > 0.0;
+}
+
+// AF-D (IGA-thesis §5.2) over the stacked triples (x_a, x_s, x_b per triple), legs
+// a = x_s − x_a, b = x_b − x_s. A straight triple: (5.36) a = c b with c = |A|/|B| from the
+// reference, three linear rows. A kinked one: the angle (5.37) a·b = |a||b| cos θ, one row,
+// linearized at the reference (its gradient: a linear analysis only; the caller checks).
+MatX angle_rows(const std::vector<std::array<Vec3, 3>>& T, int& kinks) {
+  const auto n = static_cast<Eigen::Index>(T.size());
+  std::vector<Eigen::RowVectorXd> rows;
+  kinks = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::array<Vec3, 3>& t = T[static_cast<std::size_t>(k)];
+    const Vec3 a = t[1] - t[0], b = t[2] - t[1];
+    if (straight(t)) {
+      const double c = a.norm() / b.norm();
+      for (int i = 0; i < 3; ++i) {
+        Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(9 * n);
+        r(9 * k + i) = -1.0;         // x_a
+        r(9 * k + 3 + i) = 1.0 + c;  // x_s
+        r(9 * k + 6 + i) = -c;       // x_b
+        rows.push_back(std::move(r));
+      }
+      continue;
+    }
+    ++kinks;
+    // ∂/∂a (a·b − |a||b| cos θ) = b − |b| cos θ a/|a|, ∂/∂b likewise; a = x_s − x_a, b = x_b − x_s.
+    const double cos_t = a.dot(b) / (a.norm() * b.norm());
+    const Vec3 ga = b - b.norm() * cos_t * a / a.norm(), gb = a - a.norm() * cos_t * b / b.norm();
+    Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(9 * n);
+    r.segment<3>(9 * k) = -ga.transpose();
+    r.segment<3>(9 * k + 3) = (ga - gb).transpose();
+    r.segment<3>(9 * k + 6) = gb.transpose();
+    rows.push_back(std::move(r));
+  }
+  MatX C(static_cast<Eigen::Index>(rows.size()), 9 * n);
+  for (std::size_t i = 0; i < rows.size(); ++i) C.row(static_cast<Eigen::Index>(i)) = rows[i];
+  return C;
+}
+
+}  // namespace
+
+// The coupling of each interface (kl_interfaces: model-wide, or per pair of shells):
+// - bending_strip: the strip of IGA-thesis §4.4.2 over its triples, E_s = β E (4.40) with E and
+//   the thickness of the stiffer patch (the larger E t³), so that β is relative to the patches'
+//   own bending stiffness;
+// - strip_constraints (AF-BS, §5.1): the forces of that strip with β = 1 as constraint rows
+//   (5.5b), f_s = K_s (x − X) in a linear analysis; redundant rows (Conjecture 5.1, the clamped
+//   boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1);
+// - angle (AF-D, §5.2): the continuity constraints on each triple (angle_rows).
+// Constraint rows are scaled as in (4.42)/(5.5): to the size s = max ‖∇f_i‖∞ of the patches'
+// stiffness at the reference, so that the Newton matrix is not badly scaled by them.
+void System::add_kl_couplings(const model::Model& m) {
   const model::KLInterfaces& settings = m.kl_interfaces;
   for (std::size_t i = 0; i < settings.pairs.size(); ++i) {
     const model::KLInterfacePair& p = settings.pairs[i];
@@ -112,44 +176,90 @@ void System::add_kl_strips(const model::Model& m) {
     return *std::find_if(m.kl_shells.begin(), m.kl_shells.end(),
                          [&](const model::KLShell& s) { return s.name == name; });
   };
+  const auto position = [&](int node) {  // q₀ is still being built
+    return Vec3(Eigen::Map<const Vec3>(q0_build_.data() + nodes_[node].q_offset));
+  };
+  const bool linear = m.solver.linear && m.solver.analysis == model::Analysis::statics;
+  double scale = -1.0;  // s of (4.42), computed when a coupling needs it
+  const auto row_scale = [&] {
+    if (scale < 0.0) {
+      scale = 0.0;
+      for (const KLPatchInstance& P : kl_patches_) {
+        const elements::KLShellPatch& patch = P.element->patch();
+        SpMat K;
+        patch.internal_force(patch.reference_positions(), elements::KLKinematics::linear, &K);
+        for (int j = 0; j < K.outerSize(); ++j)  // ‖K‖∞ = ‖K‖₁ (symmetric)
+          scale = std::max(scale, K.col(j).cwiseAbs().sum());
+      }
+    }
+    return scale;
+  };
   for (KLInterfaceInstance& I : kl_interfaces_) {
     I.coupling = settings.coupling;
     I.beta = settings.beta;
+    model::Source source = settings.source;
     for (const model::KLInterfacePair& p : settings.pairs)
       if ((I.a == p.a && I.b == p.b) || (I.a == p.b && I.b == p.a)) {
         I.coupling = p.coupling;
         I.beta = p.beta;
+        source = p.source;
       }
-    if (I.coupling != model::KLCoupling::bending_strip) continue;
+    if (I.coupling == model::KLCoupling::c0) continue;
+    const std::string what = fmt::format("kl_interfaces ({} -- {})", I.a, I.b);
     const model::KLShell &sa = shell(I.a), &sb = shell(I.b);
     const model::KLShell& stiff = sa.E * sa.thickness * sa.thickness * sa.thickness >=
                                           sb.E * sb.thickness * sb.thickness * sb.thickness
                                       ? sa
                                       : sb;
-    I.young = I.beta * stiff.E;
-    const KLInterface& f = I.geometry;
-    const KLPatchInstance &pa = kl_patch_of(I.a), &pb = kl_patch_of(I.b);
+    std::vector<int> nodes = triple_nodes(I.geometry, kl_patch_of(I.a), kl_patch_of(I.b));
     std::vector<std::array<Vec3, 3>> triples;
-    std::vector<int> nodes;
-    for (int k = 0; k < f.triples(); ++k)
-      for (int node : {pa.nodes[f.inner_a[k]], pa.nodes[f.shared_a[k]], pb.nodes[f.inner_b[k]]})
-        nodes.push_back(node);
-    const auto position = [&](int node) {  // q₀ is still being built
-      return Vec3(Eigen::Map<const Vec3>(q0_build_.data() + nodes_[node].q_offset));
-    };
     for (std::size_t k = 0; k < nodes.size(); k += 3)
       triples.push_back({position(nodes[k]), position(nodes[k + 1]), position(nodes[k + 2])});
-    std::shared_ptr<elements::KLShellPatch> strip;
-    try {
-      strip = elements::bending_strip(triples, I.young, stiff.thickness);
-    } catch (const std::invalid_argument& e) {
-      compile_fail(
-          settings.source, "kl_interfaces",
-          fmt::format("the bending strip between \"{}\" and \"{}\": {}", I.a, I.b, e.what()));
+    const auto strip = [&](double young) {
+      try {
+        return elements::bending_strip(triples, young, stiff.thickness);
+      } catch (const std::invalid_argument& e) {
+        compile_fail(source, what, fmt::format("the bending strip: {}", e.what()));
+      }
+    };
+    MatX C;
+    if (I.coupling == model::KLCoupling::bending_strip) {
+      I.young = I.beta * stiff.E;
+      I.element_index = static_cast<int>(elements_.size());
+      elements_.push_back(std::make_unique<elements::KLPatchElement>(
+          strip(I.young), kl_kinematics(m), std::move(nodes)));
+      continue;
     }
-    I.element_index = static_cast<int>(elements_.size());
-    elements_.push_back(
-        std::make_unique<elements::KLPatchElement>(strip, kl_kinematics(m), std::move(nodes)));
+    if (I.coupling == model::KLCoupling::strip_constraints) {
+      if (!linear)
+        compile_fail(source, what,
+                     "coupling strip_constraints is built for linear static analyses "
+                     "(solver.linear: true) so far: its rows are the strip's forces (5.5b), "
+                     "nonlinear in the control points otherwise");
+      I.young = stiff.E;
+      const auto s = strip(I.young);
+      SpMat K;
+      s->internal_force(s->reference_positions(), elements::KLKinematics::linear, &K);
+      C = MatX(K);
+    } else {
+      int kinks = 0;
+      C = angle_rows(triples, kinks);
+      if (kinks > 0 && !linear)
+        compile_fail(source, what,
+                     fmt::format("coupling angle at a kink ({:.1f}° between the patches) is built "
+                                 "for linear static analyses (solver.linear: true) so far: the "
+                                 "angle constraint (5.37) is not quadratic in the control points",
+                                 I.geometry.angle_min));
+    }
+    const double norm = C.cwiseAbs().maxCoeff();
+    if (norm > 0.0) C *= row_scale() / norm;
+    VecX Q(3 * static_cast<Eigen::Index>(nodes.size()));
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      Q.segment<3>(3 * static_cast<Eigen::Index>(k)) = position(nodes[k]);
+    I.constraint_index = static_cast<int>(nary_.size());
+    nary_.push_back(
+        {what, I.coupling == model::KLCoupling::angle ? "angle_constraints" : "strip_constraints",
+         std::make_shared<joints::LinearRows>(std::move(nodes), std::move(C), Q), 0, source});
   }
 }
 
