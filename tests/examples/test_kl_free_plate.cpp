@@ -27,22 +27,9 @@ model::Model plate(double t_end, double dt) {
 }
 
 // Largest change after the pulse (t ≥ 0.2), relative to the value's size at t = 0.2.
-struct Drift {
-  double energy = 0.0, p = 0.0, L = 0.0;
-};
+using test::Drift;
 Drift drift(const test::Trajectory& r) {
-  const auto& s = r.snapshots;
-  const std::size_t i0 = r.first_at(0.2);
-  Drift d;
-  for (std::size_t i = i0; i < s.size(); ++i) {
-    d.energy =
-        std::max(d.energy, std::abs(s[i].total_energy - s[i0].total_energy) / s[i0].total_energy);
-    d.p = std::max(
-        d.p, (s[i].linear_momentum - s[i0].linear_momentum).norm() / s[i0].linear_momentum.norm());
-    d.L = std::max(d.L, (s[i].angular_momentum - s[i0].angular_momentum).norm() /
-                            s[i0].angular_momentum.norm());
-  }
-  return d;
+  return test::drift_after(r, 0.2);
 }
 
 }  // namespace

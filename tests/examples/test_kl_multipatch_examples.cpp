@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/geometry/refinement.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/cli.hpp"
@@ -211,4 +212,52 @@ TEST(KLTwoPatchRollUp, AngleConstraintsGiveTheLimitWithoutAPenalty) {
   EXPECT_EQ(eq.unknowns(), 219);
   EXPECT_NEAR(x, -11.9945132066, 1e-9);
   EXPECT_LT(std::abs(x - exact_tip_x()), 1e-7);
+}
+
+namespace {
+
+// u_y of probe `ref` of a linear static model.
+double scordelis_uy(const model::Model& m) {
+  const auto sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  const VecX q = eq.solve().x.head(sys.n());
+  const auto& p = sys.probes().front();
+  return (sys.probe_point(q, p) - sys.probe_point(sys.q0(), p)).y();
+}
+
+model::Model scordelis_two_patch(model::KLCoupling c, double beta = 1e3) {
+  model::Model m = io::read_model_string(
+      test::example_text("kl_scordelis_lo_two_patch", "model.yaml"), "model.yaml");
+  m.kl_interfaces.coupling = c;
+  m.kl_interfaces.beta = beta;
+  return m;
+}
+
+}  // namespace
+
+// IGA-thesis §6.4.2.3: the two-patch roof equals the single patch. AF-D's rows (5.36) make the
+// joint C¹ with the reference's span ratio, so the two patches span exactly the single patch's
+// space with a knot of multiplicity p − 1 = 3 at z = 12.5: the same u_y to round-off. AF-BS, and
+// the strip as β₁ grows, give nearly that (the strip holds the triples' curvature, a little
+// more than C¹); the hinge alone is softer.
+TEST(KLScordelisLoTwoPatch, EqualsTheSinglePatch) {
+  model::Model one =
+      io::read_model_string(test::example_text("scordelis_lo", "kl_shell.yaml"), "kl_shell.yaml");
+  geometry::NurbsSurface& g = one.surfaces.front().surface;
+  ASSERT_EQ(g.degree_v(), 4);
+  g = geometry::insert_knot(g, geometry::Direction::v, 0.5, 2);
+  const double single = scordelis_uy(one);
+  const double af_d = scordelis_uy(scordelis_two_patch(model::KLCoupling::angle));
+  const double af_bs = scordelis_uy(scordelis_two_patch(model::KLCoupling::strip_constraints));
+  const double strip = scordelis_uy(scordelis_two_patch(model::KLCoupling::bending_strip, 1e6));
+  const double hinge = scordelis_uy(scordelis_two_patch(model::KLCoupling::c0));
+  std::printf(
+      "  u_y: single (C¹ at z = 12.5) %.12f, AF-D %.12f, AF-BS %.12f, strip 1e6 %.12f, "
+      "hinge %.12f\n",
+      single, af_d, af_bs, strip, hinge);
+  EXPECT_NEAR(single, -0.3006, 0.0005);
+  EXPECT_LT(std::abs(af_d - single), 1e-10 * std::abs(single));
+  EXPECT_LT(std::abs(af_bs - single), 1e-6 * std::abs(single));
+  EXPECT_LT(std::abs(strip - af_bs), 1e-6 * std::abs(single));
+  EXPECT_LT(hinge, single);  // softer: a larger downward deflection
 }

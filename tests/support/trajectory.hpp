@@ -1,5 +1,7 @@
 #pragma once
 // A model run with the energy–momentum integrator, every snapshot kept (tests of the examples).
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,26 @@ struct Trajectory {
     return i;
   }
 };
+
+// The largest relative drift of total energy, linear and angular momentum from the snapshot at
+// t0 (the first at t ≥ t0) on: what a free system keeps after its loads end.
+struct Drift {
+  double energy = 0.0, p = 0.0, L = 0.0;
+};
+inline Drift drift_after(const Trajectory& r, double t0) {
+  const auto& s = r.snapshots;
+  const std::size_t i0 = r.first_at(t0);
+  Drift d;
+  for (std::size_t i = i0; i < s.size(); ++i) {
+    d.energy =
+        std::max(d.energy, std::abs(s[i].total_energy - s[i0].total_energy) / s[i0].total_energy);
+    d.p = std::max(
+        d.p, (s[i].linear_momentum - s[i0].linear_momentum).norm() / s[i0].linear_momentum.norm());
+    d.L = std::max(d.L, (s[i].angular_momentum - s[i0].angular_momentum).norm() /
+                            s[i0].angular_momentum.norm());
+  }
+  return d;
+}
 
 // Convergence in the step: for results at Δt, Δt/2, Δt/4, … the ratios of the differences of
 // successive results, |x₀ − x₁| / |x₁ − x₂|, … (4 for a second-order scheme).

@@ -96,11 +96,23 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   return pb;
 }
 
+namespace {
+
+// The System's linear conditions over x = (q, λ_sel): C gets zero columns for the multipliers of
+// the selected rows (a model with both, e.g. KL supports and multipatch coupling rows).
+system::LinearConstraints over_unknowns(const system::System& sys) {
+  system::LinearConstraints c = sys.linear_constraints();
+  c.C.conservativeResize(c.C.rows(), sys.n() + sys.m_selected());
+  return c;
+}
+
+}  // namespace
+
 StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Solver& settings)
     : sys_(sys),
       linear_(settings.linear),
       problem_(static_problem(sys, settings.linear)),
-      solver_(problem_, sys.linear_constraints(), static_settings(settings)) {}
+      solver_(problem_, over_unknowns(sys), static_settings(settings)) {}
 
 int StaticEquilibrium::unknowns() const {
   return solver_.dofs().n_free() + multipliers();

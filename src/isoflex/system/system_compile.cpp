@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <new>
+#include <set>
 
 #include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/rigid_body.hpp"
@@ -994,35 +995,53 @@ void System::set_initial_velocities(const model::Model& model) {
 }
 
 // Conditions on the stacked coordinates of `nodes` (point nodes, 3 each) as conditions on q.
+// A multiplier row equal to one already there is dropped: patches joined at shared control
+// points state the same condition twice where their supports meet (a symmetry edge across an
+// interface), and the static solver needs rows of full rank.
 void System::add_linear_constraints(const LinearConstraints& local, const std::vector<int>& nodes) {
   auto global = [&](int i) { return q_offset(nodes[static_cast<std::size_t>(i / 3)]) + i % 3; };
   for (std::size_t k = 0; k < local.eliminated.size(); ++k)
     linear_.eliminate(global(local.eliminated[k]),
                       k < local.eliminated_value.size() ? local.eliminated_value[k] : nullptr);
   if (local.multipliers() == 0) return;
-  Triplets t;
+  using Row = std::vector<std::pair<int, double>>;  // (column of q, value), by column
+  const auto rows_of = [](const SpMat& C, const std::function<int(int)>& column) {
+    std::vector<Row> out(static_cast<std::size_t>(C.rows()));
+    for (int j = 0; j < C.outerSize(); ++j)
+      for (SpMat::InnerIterator it(C, j); it; ++it)
+        out[static_cast<std::size_t>(it.row())].emplace_back(column(j), it.value());
+    for (Row& r : out) std::sort(r.begin(), r.end());
+    return out;
+  };
   const int m0 = linear_.multipliers();
-  for (int j = 0; j < local.C.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(local.C, j); it; ++it)
-      t.emplace_back(m0 + static_cast<int>(it.row()), global(static_cast<int>(it.col())),
-                     it.value());
-  for (int j = 0; j < linear_.C.outerSize(); ++j)
-    for (SpMat::InnerIterator it(linear_.C, j); it; ++it)
-      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
-  linear_.C.resize(m0 + local.multipliers(), n());
+  std::vector<Row> rows = rows_of(linear_.C, [](int j) { return j; });
+  std::set<Row> seen(rows.begin(), rows.end());
+  std::vector<int> kept;  // the local rows added
+  std::vector<Row> local_rows = rows_of(local.C, global);
+  for (std::size_t r = 0; r < local_rows.size(); ++r)
+    if (seen.insert(local_rows[r]).second) {
+      kept.push_back(static_cast<int>(r));
+      rows.push_back(std::move(local_rows[r]));
+    }
+  Triplets t;
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    for (const auto& [c, v] : rows[r]) t.emplace_back(static_cast<int>(r), c, v);
+  linear_.C.resize(static_cast<int>(rows.size()), n());
   linear_.C.setFromTriplets(t.begin(), t.end());
   linear_.C.makeCompressed();
   const auto before = linear_.rhs;
   const auto added = local.rhs;
-  const int m1 = local.multipliers();
-  linear_.rhs = [before, added, m0, m1](double t) {
-    VecX d = VecX::Zero(m0 + m1);
-    if (before) d.head(m0) = before(t);
-    if (added) d.tail(m1) = added(t);
+  linear_.rhs = [before, added, m0, kept](double time) {
+    VecX d = VecX::Zero(m0 + static_cast<int>(kept.size()));
+    if (before) d.head(m0) = before(time);
+    if (added) {
+      const VecX a = added(time);
+      for (std::size_t k = 0; k < kept.size(); ++k) d(m0 + static_cast<int>(k)) = a(kept[k]);
+    }
     return d;
   };
   linear_.row_labels.resize(static_cast<std::size_t>(m0));
-  for (int r = 0; r < m1; ++r)
+  for (int r : kept)
     linear_.row_labels.push_back(static_cast<std::size_t>(r) < local.row_labels.size()
                                      ? local.row_labels[static_cast<std::size_t>(r)]
                                      : std::string());
