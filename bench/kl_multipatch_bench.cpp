@@ -96,19 +96,14 @@ double triple_angle(const system::System& sys, const VecX& q, const std::array<i
 std::array<int, 3> nearest_triple(const system::System& sys, const Vec3& p) {
   std::array<int, 3> best{-1, -1, -1};
   double d = INFINITY;
-  for (const auto& I : sys.kl_interfaces()) {
-    const auto& f = I.geometry;
-    const auto& na = sys.kl_patch_of(I.a).nodes;
-    const auto& nb = sys.kl_patch_of(I.b).nodes;
-    for (int k = 0; k < f.triples(); ++k) {
-      const std::array<int, 3> t{na[f.inner_a[k]], na[f.shared_a[k]], nb[f.inner_b[k]]};
-      const double dk = (Vec3(sys.stacked(sys.q0(), {t[1]})) - p).norm();
+  for (const auto& I : sys.kl_interfaces())
+    for (std::size_t k = 0; k < I.triple_nodes.size(); k += 3) {
+      const double dk = (Vec3(sys.stacked(sys.q0(), {I.triple_nodes[k + 1]})) - p).norm();
       if (dk < d) {
         d = dk;
-        best = t;
+        best = {I.triple_nodes[k], I.triple_nodes[k + 1], I.triple_nodes[k + 2]};
       }
     }
-  }
   if (best[0] < 0) usage("--angle-at: the model has no interface");
   return best;
 }

@@ -134,11 +134,10 @@ LPlate l_plate(model::KLCoupling coupling, double beta = 1e3) {
   out.uz = (sys.probe_point(sys.q0() + dq, probe) - sys.probe_point(sys.q0(), probe)).z();
   const system::KLInterfaceInstance& I = sys.kl_interfaces().at(0);
   const auto& f = I.geometry;
-  const int k = f.triples() - 1;  // the front triple, x = 10
-  EXPECT_NEAR(sys.stacked(sys.q0(), {sys.kl_patch_of(I.a).nodes[f.shared_a[k]]}).x(), 10.0, 1e-12);
-  const std::vector<int> T{sys.kl_patch_of(I.a).nodes[f.inner_a[k]],
-                           sys.kl_patch_of(I.a).nodes[f.shared_a[k]],
-                           sys.kl_patch_of(I.b).nodes[f.inner_b[k]]};
+  const auto k = static_cast<std::size_t>(3 * (f.triples() - 1));  // the front triple, x = 10
+  const std::vector<int> T(I.triple_nodes.begin() + static_cast<std::ptrdiff_t>(k),
+                           I.triple_nodes.begin() + static_cast<std::ptrdiff_t>(k + 3));
+  EXPECT_NEAR(sys.stacked(sys.q0(), {T[1]}).x(), 10.0, 1e-12);
   const auto angle = [&](const VecX& q) {
     const VecX x = sys.stacked(q, T);
     const Vec3 a = x.segment<3>(0) - x.segment<3>(3), b = x.segment<3>(6) - x.segment<3>(3);

@@ -102,6 +102,8 @@ struct KLPatchInstance {
 struct KLInterfaceInstance {
   std::string a, b;  // the shells
   KLInterface geometry;
+  // The system nodes of the triples, (inner a, shared, inner b) per triple along the edge.
+  std::vector<int> triple_nodes;
   model::KLCoupling coupling = model::KLCoupling::c0;
   double beta = 0.0;       // E_s / E of the strip (bending_strip)
   double young = 0.0;      // E_s of the strip

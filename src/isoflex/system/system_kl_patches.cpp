@@ -85,6 +85,11 @@ void System::add_kl_patches(const model::Model& m) {
     KLInterfaceInstance I;
     I.a = m.kl_shells[static_cast<std::size_t>(f.a)].name;
     I.b = m.kl_shells[static_cast<std::size_t>(f.b)].name;
+    const std::vector<int>&na = kl_patches_[static_cast<std::size_t>(f.a)].nodes,
+          &nb = kl_patches_[static_cast<std::size_t>(f.b)].nodes;
+    for (int k = 0; k < f.triples(); ++k)
+      for (int node : {na[f.inner_a[k]], na[f.shared_a[k]], nb[f.inner_b[k]]})
+        I.triple_nodes.push_back(node);
     I.geometry = std::move(f);
     kl_interfaces_.push_back(std::move(I));
   }
@@ -92,16 +97,6 @@ void System::add_kl_patches(const model::Model& m) {
 }
 
 namespace {
-
-// The triple nodes of an interface, (inner a, shared, inner b) per triple along the edge.
-std::vector<int> triple_nodes(const KLInterface& f, const KLPatchInstance& pa,
-                              const KLPatchInstance& pb) {
-  std::vector<int> nodes;
-  for (int k = 0; k < f.triples(); ++k)
-    for (int node : {pa.nodes[f.inner_a[k]], pa.nodes[f.shared_a[k]], pb.nodes[f.inner_b[k]]})
-      nodes.push_back(node);
-  return nodes;
-}
 
 // A triple is straight (the patches continue smoothly, G¹) if its two legs are parallel.
 bool straight(const std::array<Vec3, 3>& t) {
@@ -211,7 +206,7 @@ void System::add_kl_couplings(const model::Model& m) {
                                           sb.E * sb.thickness * sb.thickness * sb.thickness
                                       ? sa
                                       : sb;
-    std::vector<int> nodes = triple_nodes(I.geometry, kl_patch_of(I.a), kl_patch_of(I.b));
+    std::vector<int> nodes = I.triple_nodes;
     std::vector<std::array<Vec3, 3>> triples;
     for (std::size_t k = 0; k < nodes.size(); k += 3)
       triples.push_back({position(nodes[k]), position(nodes[k + 1]), position(nodes[k + 2])});
