@@ -34,7 +34,7 @@ void check_contract(const JointRows& rows, const VecX& q_c, std::mt19937& g, boo
   EXPECT_LT(rel_diff(G, G_fd), 1e-8);
   const VecX lambda = random_vector(g, m);
   MatX H = MatX::Zero(q_c.size(), q_c.size());
-  rows.add_constraint_hessian(lambda, H);
+  rows.add_constraint_hessian(q_c, lambda, H);
   const MatX H_fd = central_jacobian(
       [&](const VecX& y) { return VecX(rows.jacobian(y).transpose() * lambda); }, q_c);
   if (quadratic) {

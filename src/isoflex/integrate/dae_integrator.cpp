@@ -152,7 +152,7 @@ VecX DaeIntegrator::residual(const Prediction& p, const VecX& q, const VecX& lam
     system::Triplets tr;
     append(tr, sys_.mass(), 0, 0, c * p.beta_p);
     append(tr, K, 0, 0, c);
-    append(tr, sys_.constraint_hessian(lambda_hat), 0, 0, sigma);
+    append(tr, sys_.constraint_hessian(q, lambda_hat), 0, 0, sigma);
     append(tr, SpMat(G.transpose()), 0, n, sigma);
     append(tr, G, n, 0, sigma);
     S->resize(n + m, n + m);

@@ -156,13 +156,13 @@ void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
 }
 }  // namespace
 
-SpMat EnergyMomentumIntegrator::reduced_stiffness(const SpMat& Gm, const VecX& r0, const SpMat& Kf,
-                                                  double dt) const {
+SpMat EnergyMomentumIntegrator::reduced_stiffness(const VecX& qm, const SpMat& Gm, const VecX& r0,
+                                                  const SpMat& Kf, double dt) const {
   // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares) stands in for the derivative of 𝖯 (see the header).
   // Without constraints (a free KL patch) there is no such term.
   if (Gm.rows() == 0) return (2.0 / dt) * sys_.mass() + dt * Kf;
   const VecX lambda = normal_equations_.solve(Gm, -(Gm * r0) / dt);
-  return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+  return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(qm, lambda);
 }
 
 VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
@@ -201,7 +201,9 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   if (sys_.viscous())
     f += sys_.viscous_force(qm, (q1 - s.q) / dt, 0.5, 1.0 / dt, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
-  const SpMat Gm = sys_.jacobian(qm);  // 𝖦 = G(q_{n+½}), selected rows
+  // 𝖦 = G̃(qₙ, qₙ₊₁), the discrete derivative of the selected rows: G(q_{n+½}) for rows at most
+  // quadratic (DNSM-III (9)–(10)).
+  const SpMat Gm = sys_.discrete_jacobian(s.q, q1);
   const int m = sys_.m_selected();
   system::Triplets t;
 
@@ -209,7 +211,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
     const VecX R = sys_.reduce(qm, r0);
     if (NJ) {
-      NJ->A = reduced_stiffness(Gm, r0, Kf, dt);
+      NJ->A = reduced_stiffness(qm, Gm, r0, Kf, dt);
       NJ->tree = true;
       NJ->qm = qm;
       NJ->q1 = q1;
@@ -226,7 +228,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     for (int i = 0; i < m; ++i) R(n + i) = phi(sys_.selected_rows()[i]);
     if (J) {
       const SpMat K =
-          (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(lambda);
+          (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(qm, lambda);
       append(t, K, 0, 0);
       append(t, SpMat(dt * SpMat(Gm.transpose())), 0, n);
       append(t, sys_.jacobian(q1), n, 0);
@@ -247,7 +249,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
     const VecX phi = sys_.constraints(q1, c.s->t + dt);
     for (int i = 0; i < mc; ++i) R(k + i) = constraint_scale_ * phi(rows[i]);
     if (J) {
-      const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
+      const SpMat K = reduced_stiffness(qm, Gm, r0, Kf, dt);
       SpMat Lm, Bm, Pm;
       sys_.tree_factors(qm, Lm, Bm, Pm);
       const SpMat PmT = Pm.transpose(), LmT = Lm.transpose(), BmT = Bm.transpose();
@@ -283,7 +285,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   SpMat P = sys_.tree_null_space(qm);
   const bool cuts = !sys_.cut_rows().empty();
   if (cuts) {
-    const MatX Gc = MatX(sys_.jacobian_rows(qm, sys_.cut_rows()) * P);
+    const MatX Gc = MatX(sys_.discrete_jacobian_rows(s.q, q1, sys_.cut_rows()) * P);
     // A locked mechanism (no columns in U) has nothing to project; Eigen's LU of an empty
     // block would bind a null reference.
     MatX Pc = c.U;
@@ -302,7 +304,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   const VecX phi = sys_.constraints(q1, c.s->t + dt);
   for (int i = 0; i < mc; ++i) R(kred + i) = constraint_scale_ * phi(con_rows[i]);
   if (J) {
-    const SpMat K = reduced_stiffness(Gm, r0, Kf, dt);
+    const SpMat K = reduced_stiffness(qm, Gm, r0, Kf, dt);
     SpMat dq;  // ∂q_{n+1}/∂x
     if (settings_.formulation == F::nullspace) {
       dq.resize(n, n);

@@ -90,9 +90,9 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   };
   VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
   VecX correction(const NewtonMatrix& J, const VecX& R) const;
-  // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ of the reduced schemes.
-  system::SpMat reduced_stiffness(const system::SpMat& Gm, const VecX& r0, const system::SpMat& Kf,
-                                  double dt) const;
+  // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
+  system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
+                                  const system::SpMat& Kf, double dt) const;
   VecX configuration(const StepContext& c, const VecX& x) const;
 
   const system::System& sys_;

@@ -53,7 +53,7 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
   for (int i = 0; i < m; ++i) out.r(n + i) = phi(sys.selected_rows()[i]);
   out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
   if (!with_tangent) return;
-  const SpMat A = K + sys.constraint_hessian(lambda);
+  const SpMat A = K + sys.constraint_hessian(q, lambda);
   system::Triplets tr;
   tr.reserve(A.nonZeros() + 2 * G.nonZeros());
   for (int c = 0; c < A.outerSize(); ++c)

@@ -1,8 +1,10 @@
 #pragma once
 // The constraint contract (docs/architecture.md): rows Φ(q) = 0 over the stacked coordinates of
-// any set of nodes, at most quadratic in q — the condition under which the midpoint evaluation of
-// the constraint forces is an exact discrete gradient (DNSM-III (9)–(10)) — with their Jacobian
-// and the constant Hessians. System evaluates every row of a model through it. `Joint`
+// any set of nodes, with their Jacobian and Hessians. System evaluates every row of a model through
+// it. Rows at most quadratic in q (every joint) have constant Hessians and their Jacobian at the
+// midpoint is an exact discrete derivative (DNSM-III (9)–(10)); a row that is not (the angle row
+// of a kinked Kirchhoff–Love interface, IGA-thesis (5.37)) gives its own discrete derivative
+// G̃(q_a, q_b), G̃ (q_b − q_a) = Φ(q_b) − Φ(q_a), for the energy–momentum schemes. `Joint`
 // (joint.hpp) is the binary special case that also describes its explicit elimination (parent
 // and freedom blocks, update map), so that the spanning forest can remove its rows; a joint
 // instance's rows are a Constraint through `JointRows` (joint_rows.hpp). Any other Constraint
@@ -26,8 +28,12 @@ class Constraint {
   virtual int constraint_count() const = 0;
   virtual VecX constraints(CRef q_c) const = 0;
   virtual MatX jacobian(CRef q_c) const = 0;  // constraint_count() × q_c.size()
-  // H += Σ λ_i ∂²Φ_i/∂q_c² (constant: Φ is at most quadratic).
-  virtual void add_constraint_hessian(CRef lambda, MatX& H) const = 0;
+  // H += Σ λ_i ∂²Φ_i/∂q_c² at q_c (independent of q_c for rows at most quadratic).
+  virtual void add_constraint_hessian(CRef q_c, CRef lambda, MatX& H) const = 0;
+  // A discrete derivative: G̃ (q_b − q_a) = Φ(q_b) − Φ(q_a), G̃ → G(q) as q_a, q_b → q, and
+  // G̃ annihilating the rigid motions at the midpoint where G does (so that constraint forces
+  // G̃ᵀλ keep the momentum maps). The default G(½(q_a + q_b)) is exact for rows at most quadratic.
+  virtual MatX discrete_jacobian(CRef q_a, CRef q_b) const { return jacobian(0.5 * (q_a + q_b)); }
   // d(t) (constraint_count() entries), asked only when rheonomic().
   virtual bool rheonomic() const { return false; }
   virtual VecX prescribed(double /*t*/) const { return VecX::Zero(constraint_count()); }

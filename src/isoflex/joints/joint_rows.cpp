@@ -25,7 +25,7 @@ MatX JointRows::jacobian(CRef q_c) const {
   return G.rightCols(nb_);
 }
 
-void JointRows::add_constraint_hessian(CRef lambda, MatX& H) const {
+void JointRows::add_constraint_hessian(CRef, CRef lambda, MatX& H) const {
   if (!grounded()) {
     joint_->add_constraint_hessian(lambda, H);
     return;

@@ -21,7 +21,7 @@ class JointRows final : public Constraint {
   int constraint_count() const override { return joint_->constraint_count(); }
   VecX constraints(CRef q_c) const override;
   MatX jacobian(CRef q_c) const override;
-  void add_constraint_hessian(CRef lambda, MatX& H) const override;
+  void add_constraint_hessian(CRef q_c, CRef lambda, MatX& H) const override;
 
  private:
   CRef parent_q(CRef q_c) const { return grounded() ? CRef(ground_) : q_c.head(na_); }

@@ -25,7 +25,7 @@ class LinearRows final : public Constraint {
   int constraint_count() const override { return static_cast<int>(C_.rows()); }
   VecX constraints(CRef q_c) const override { return C_ * (q_c - Q_); }
   MatX jacobian(CRef) const override { return C_; }
-  void add_constraint_hessian(CRef, MatX&) const override {}
+  void add_constraint_hessian(CRef, CRef, MatX&) const override {}
   bool rheonomic() const override { return static_cast<bool>(d_); }
   // Throws std::runtime_error when d(t) has the wrong size or is not finite.
   VecX prescribed(double t) const override;

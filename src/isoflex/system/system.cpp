@@ -291,13 +291,28 @@ VecX System::constraints(const VecX& q, double t) const {
   return c;
 }
 
-SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
-  // Assemble all rows, then pick.
+namespace {
+
+// The rows `rows` of `all` (m_all × n), in that order.
+SpMat pick_rows(const SpMat& all, const std::vector<int>& rows) {
+  Triplets s;
+  for (std::size_t i = 0; i < rows.size(); ++i) s.emplace_back(static_cast<int>(i), rows[i], 1.0);
+  SpMat S(static_cast<int>(rows.size()), all.rows());
+  S.setFromTriplets(s.begin(), s.end());
+  return S * all;
+}
+
+}  // namespace
+
+// Every row's Jacobian block G_c from `block(C)` for the constraints, the nodes' internal rows
+// (quadratic) at qm; then the rows picked.
+template <class Block>
+SpMat System::assemble_rows(const VecX& qm, const std::vector<int>& rows, Block&& block) const {
   Triplets t;
   for (int i = 0; i < node_count(); ++i)
-    add_block(t, nodes_[i].row_offset, nodes_[i].q_offset, node_type(i).jacobian(node_q(q, i)));
+    add_block(t, nodes_[i].row_offset, nodes_[i].q_offset, node_type(i).jacobian(node_q(qm, i)));
   for_each_constraint([&](const joints::Constraint& C, int row) {
-    const MatX G = C.jacobian(stacked(q, C.nodes()));
+    const MatX G = block(C);
     int o = 0;
     for (int a : C.nodes()) {
       add_block(t, row, nodes_[a].q_offset, G.middleCols(o, coordinate_count(a)));
@@ -306,18 +321,30 @@ SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
   });
   SpMat all(m_all_, n());
   all.setFromTriplets(t.begin(), t.end());
-  Triplets s;
-  for (std::size_t i = 0; i < rows.size(); ++i) s.emplace_back(static_cast<int>(i), rows[i], 1.0);
-  SpMat S(static_cast<int>(rows.size()), m_all_);
-  S.setFromTriplets(s.begin(), s.end());
-  return S * all;
+  return pick_rows(all, rows);
+}
+
+SpMat System::jacobian_rows(const VecX& q, const std::vector<int>& rows) const {
+  return assemble_rows(
+      q, rows, [&](const joints::Constraint& C) { return C.jacobian(stacked(q, C.nodes())); });
 }
 
 SpMat System::jacobian(const VecX& q) const {
   return jacobian_rows(q, selected_rows_);
 }
 
-SpMat System::constraint_hessian(const VecX& lambda_sel) const {
+SpMat System::discrete_jacobian_rows(const VecX& qa, const VecX& qb,
+                                     const std::vector<int>& rows) const {
+  return assemble_rows(0.5 * (qa + qb), rows, [&](const joints::Constraint& C) {
+    return C.discrete_jacobian(stacked(qa, C.nodes()), stacked(qb, C.nodes()));
+  });
+}
+
+SpMat System::discrete_jacobian(const VecX& qa, const VecX& qb) const {
+  return discrete_jacobian_rows(qa, qb, selected_rows_);
+}
+
+SpMat System::constraint_hessian(const VecX& q, const VecX& lambda_sel) const {
   VecX l = VecX::Zero(m_all_);
   for (std::size_t i = 0; i < selected_rows_.size(); ++i) l(selected_rows_[i]) = lambda_sel(i);
   Triplets t;
@@ -332,7 +359,7 @@ SpMat System::constraint_hessian(const VecX& lambda_sel) const {
   for_each_constraint([&](const joints::Constraint& C, int row) {
     const std::vector<int> coords = coordinates_of(C.nodes());
     MatX H = MatX::Zero(coords.size(), coords.size());
-    C.add_constraint_hessian(l.segment(row, C.constraint_count()), H);
+    C.add_constraint_hessian(stacked(q, C.nodes()), l.segment(row, C.constraint_count()), H);
     for (int j = 0; j < H.cols(); ++j)
       for (int i = 0; i < H.rows(); ++i)
         if (H(i, j) != 0.0) t.emplace_back(coords[i], coords[j], H(i, j));

@@ -205,8 +205,12 @@ class System {
   // Jacobian of the selected rows (m_selected × n) or of the given rows.
   SpMat jacobian(const VecX& q) const;
   SpMat jacobian_rows(const VecX& q, const std::vector<int>& rows) const;
-  // Σ λᵢ ∂²Φᵢ/∂q² over selected rows (λ in selected order), n × n.
-  SpMat constraint_hessian(const VecX& lambda_selected) const;
+  // The discrete derivative G̃(q_a, q_b) of the selected or the given rows
+  // (joints/constraint.hpp): G(½(q_a + q_b)) for the rows at most quadratic.
+  SpMat discrete_jacobian(const VecX& qa, const VecX& qb) const;
+  SpMat discrete_jacobian_rows(const VecX& qa, const VecX& qb, const std::vector<int>& rows) const;
+  // Σ λᵢ ∂²Φᵢ/∂q² at q over selected rows (λ in selected order), n × n.
+  SpMat constraint_hessian(const VecX& q, const VecX& lambda_selected) const;
 
   // Tree null space P_tree(q) (n × k): G_tree(q) P_tree(q) = 0 for every q.
   SpMat tree_null_space(const VecX& q) const;
@@ -334,6 +338,9 @@ class System {
   // f(constraint, first row) for the joints' rows, then the n-ary constraints.
   template <class F>
   void for_each_constraint(F&& f) const;
+  // The Jacobian rows `rows`, each constraint's block from block(C), the nodes' rows at qm.
+  template <class Block>
+  SpMat assemble_rows(const VecX& qm, const std::vector<int>& rows, Block&& block) const;
 
   std::vector<Node> nodes_;
   int internal_rows_ = 0;

@@ -8,6 +8,7 @@
 
 #include "isoflex/elements/bending_strip.hpp"
 #include "isoflex/joints/linear_rows.hpp"
+#include "isoflex/joints/triple_continuity_rows.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/system.hpp"
@@ -96,53 +97,6 @@ void System::add_kl_patches(const model::Model& m) {
   add_kl_couplings(m);
 }
 
-namespace {
-
-// A triple is straight (the patches continue smoothly, G¹) if its two legs are parallel.
-bool straight(const std::array<Vec3, 3>& t) {
-  const Vec3 a = t[1] - t[0], b = t[2] - t[1];
-  return a.cross(b).norm() <= 1e-8 * a.norm() * b.norm() && a.dot(b) > 0.0;
-}
-
-// AF-D (IGA-thesis §5.2) over the stacked triples (x_a, x_s, x_b per triple), legs
-// a = x_s − x_a, b = x_b − x_s. A straight triple: (5.36) a = c b with c = |A|/|B| from the
-// reference, three linear rows. A kinked one: the angle (5.37) a·b = |a||b| cos θ, one row,
-// linearized at the reference (its gradient: a linear analysis only; the caller checks).
-MatX angle_rows(const std::vector<std::array<Vec3, 3>>& T, int& kinks) {
-  const auto n = static_cast<Eigen::Index>(T.size());
-  std::vector<Eigen::RowVectorXd> rows;
-  kinks = 0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const std::array<Vec3, 3>& t = T[static_cast<std::size_t>(k)];
-    const Vec3 a = t[1] - t[0], b = t[2] - t[1];
-    if (straight(t)) {
-      const double c = a.norm() / b.norm();
-      for (int i = 0; i < 3; ++i) {
-        Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(9 * n);
-        r(9 * k + i) = -1.0;         // x_a
-        r(9 * k + 3 + i) = 1.0 + c;  // x_s
-        r(9 * k + 6 + i) = -c;       // x_b
-        rows.push_back(std::move(r));
-      }
-      continue;
-    }
-    ++kinks;
-    // ∂/∂a (a·b − |a||b| cos θ) = b − |b| cos θ a/|a|, ∂/∂b likewise; a = x_s − x_a, b = x_b − x_s.
-    const double cos_t = a.dot(b) / (a.norm() * b.norm());
-    const Vec3 ga = b - b.norm() * cos_t * a / a.norm(), gb = a - a.norm() * cos_t * b / b.norm();
-    Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(9 * n);
-    r.segment<3>(9 * k) = -ga.transpose();
-    r.segment<3>(9 * k + 3) = (ga - gb).transpose();
-    r.segment<3>(9 * k + 6) = gb.transpose();
-    rows.push_back(std::move(r));
-  }
-  MatX C(static_cast<Eigen::Index>(rows.size()), 9 * n);
-  for (std::size_t i = 0; i < rows.size(); ++i) C.row(static_cast<Eigen::Index>(i)) = rows[i];
-  return C;
-}
-
-}  // namespace
-
 // The coupling of each interface (kl_interfaces: model-wide, or per pair of shells):
 // - bending_strip: the strip of IGA-thesis §4.4.2 over its triples, E_s = β E (4.40) with E and
 //   the thickness of the stiffer patch (the larger E t³), so that β is relative to the patches'
@@ -150,9 +104,11 @@ MatX angle_rows(const std::vector<std::array<Vec3, 3>>& T, int& kinks) {
 // - strip_constraints (AF-BS, §5.1): the forces of that strip with β = 1 as constraint rows
 //   (5.5b), f_s = K_s (x − X) in a linear analysis; redundant rows (Conjecture 5.1, the clamped
 //   boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1);
-// - angle (AF-D, §5.2): the continuity constraints on each triple (angle_rows).
-// Constraint rows are scaled as in (4.42)/(5.5): to the size s = max ‖∇f_i‖∞ of the patches'
-// stiffness at the reference, so that the Newton matrix is not badly scaled by them.
+// - angle (AF-D, §5.2): the continuity constraints on each triple (TripleContinuityRows), in
+//   every analysis.
+// Constraint rows are scaled as in (4.42)/(5.5) in a static analysis: to the size
+// s = max ‖∇f_i‖∞ of the patches' stiffness at the reference, so that the Newton matrix is not
+// badly scaled by them.
 void System::add_kl_couplings(const model::Model& m) {
   const model::KLInterfaces& settings = m.kl_interfaces;
   for (std::size_t i = 0; i < settings.pairs.size(); ++i) {
@@ -217,7 +173,6 @@ void System::add_kl_couplings(const model::Model& m) {
         compile_fail(source, what, fmt::format("the bending strip: {}", e.what()));
       }
     };
-    MatX C;
     if (I.coupling == model::KLCoupling::bending_strip) {
       I.young = I.beta * stiff.E;
       I.element_index = static_cast<int>(elements_.size());
@@ -225,6 +180,19 @@ void System::add_kl_couplings(const model::Model& m) {
           strip(I.young), kl_kinematics(m), std::move(nodes)));
       continue;
     }
+    VecX Q(3 * static_cast<Eigen::Index>(nodes.size()));
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      Q.segment<3>(3 * static_cast<Eigen::Index>(k)) = position(nodes[k]);
+    // Rows scaled so that their largest reference entry is s in a static analysis, 1 in a
+    // dynamic one, whose integrators scale the rows themselves (the DAE schemes by (2.56)–(2.58),
+    // the reduced energy–momentum formulations by (2/Δt) × the mean mass), as they do the rows
+    // of the supports and joints, whose entries are of order 1.
+    const auto scaled = [&](const MatX& G) {
+      const double norm = G.cwiseAbs().maxCoeff();
+      if (!(norm > 0.0)) return 1.0;
+      return (m.solver.analysis == model::Analysis::statics ? row_scale() : 1.0) / norm;
+    };
+    std::shared_ptr<const joints::Constraint> rows;
     if (I.coupling == model::KLCoupling::strip_constraints) {
       if (!linear)
         compile_fail(source, what,
@@ -235,26 +203,23 @@ void System::add_kl_couplings(const model::Model& m) {
       const auto s = strip(I.young);
       SpMat K;
       s->internal_force(s->reference_positions(), elements::KLKinematics::linear, &K);
-      C = MatX(K);
+      MatX C(K);
+      C *= scaled(C);
+      rows = std::make_shared<joints::LinearRows>(nodes, std::move(C), Q);
     } else {
-      int kinks = 0;
-      C = angle_rows(triples, kinks);
-      if (kinks > 0 && !linear)
-        compile_fail(source, what,
-                     fmt::format("coupling angle at a kink ({:.1f}° between the patches) is built "
-                                 "for linear static analyses (solver.linear: true) so far: the "
-                                 "angle constraint (5.37) is not quadratic in the control points",
-                                 I.geometry.angle_min));
+      // A linear analysis takes the rows linearized at the reference, as it does every equation.
+      const joints::TripleContinuityRows unit(nodes, Q);
+      MatX C = unit.jacobian(Q);
+      const double factor = scaled(C);
+      if (linear)
+        rows = std::make_shared<joints::LinearRows>(nodes, factor * C, Q);
+      else
+        rows = std::make_shared<joints::TripleContinuityRows>(nodes, Q, factor);
     }
-    const double norm = C.cwiseAbs().maxCoeff();
-    if (norm > 0.0) C *= row_scale() / norm;
-    VecX Q(3 * static_cast<Eigen::Index>(nodes.size()));
-    for (std::size_t k = 0; k < nodes.size(); ++k)
-      Q.segment<3>(3 * static_cast<Eigen::Index>(k)) = position(nodes[k]);
     I.constraint_index = static_cast<int>(nary_.size());
     nary_.push_back(
         {what, I.coupling == model::KLCoupling::angle ? "angle_constraints" : "strip_constraints",
-         std::make_shared<joints::LinearRows>(std::move(nodes), std::move(C), Q), 0, source});
+         std::move(rows), 0, source});
   }
 }
 
