@@ -8,8 +8,10 @@
 // point is nearest to the given point (the angle of the triple's legs, which are the tangents
 // across the edge: Fig. 6.21's error; in a linear analysis its linearized change).
 //
-//   kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4]
+//   kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4] [--perturbed]
 //                       [--couplings c0,strip_constraints,angle] [--angle-at X,Y,Z]
+//
+// --perturbed: also the perturbed Lagrange coupling (5.24) with α₁ over the same values.
 //
 // Output on stdout: `coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number,
 // angle_error` (a failed run: its message on stderr and empty columns).
@@ -39,13 +41,14 @@ struct Options {
   std::string model, probe;
   std::vector<double> betas{1.0, 1e2, 1e4};
   std::vector<std::string> couplings;  // besides bending_strip
+  bool perturbed = false;              // perturbed_lagrange with α₁ over the betas too
   std::optional<Vec3> angle_at;
 };
 
 [[noreturn]] void usage(const std::string& msg) {
   std::fprintf(stderr,
                "kl_multipatch_bench: %s\n"
-               "usage: kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4]\n"
+               "usage: kl_multipatch_bench MODEL --probe NAME [--betas 1,1e2,1e4] [--perturbed]\n"
                "                           [--couplings c0,strip_constraints,angle] "
                "[--angle-at X,Y,Z]\n",
                msg.c_str());
@@ -62,6 +65,8 @@ Options parse(int argc, char** argv) {
       o.betas.clear();
       for (const auto& b : bench::split(args.value()))
         o.betas.push_back(bench::parse_double(b, "beta", usage));
+    } else if (args.is("--perturbed")) {
+      o.perturbed = true;
     } else if (args.is("--couplings")) {
       o.couplings = bench::split(args.value());
     } else if (args.is("--angle-at")) {
@@ -158,12 +163,16 @@ int main(int argc, char** argv) {
   model::Model m = io::read_model(o.model);
   m.solver.analysis = model::Analysis::statics;
   fmt::print("coupling,beta,ux,uy,uz,newton_iterations,unknowns,condition_number,angle_error\n");
-  for (double beta : o.betas) {
-    model::Model mb = m;
-    mb.kl_interfaces.coupling = model::KLCoupling::bending_strip;
-    mb.kl_interfaces.beta = beta;
-    mb.kl_interfaces.pairs.clear();
-    run(mb, o.probe, "bending_strip", beta, o.angle_at);
+  for (const bool perturbed : {false, true}) {
+    if (perturbed && !o.perturbed) continue;
+    for (double beta : o.betas) {
+      model::Model mb = m;
+      mb.kl_interfaces.coupling =
+          perturbed ? model::KLCoupling::perturbed_lagrange : model::KLCoupling::bending_strip;
+      mb.kl_interfaces.beta = beta;
+      mb.kl_interfaces.pairs.clear();
+      run(mb, o.probe, perturbed ? "perturbed_lagrange" : "bending_strip", beta, o.angle_at);
+    }
   }
   for (const std::string& c : o.couplings) {
     model::Model mc = m;

@@ -6,6 +6,7 @@
 // to round-off; located errors for interfaces that cannot be joined and for bad keys.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -238,7 +239,7 @@ TEST(KLMultipatch, LocatedErrors) {
   }
   EXPECT_NE(test::error_of(two_patch_roll_up("kl_interfaces: {coupling: glue}\n"))
                 .find("m.yaml:20: kl_interfaces.coupling: unknown coupling \"glue\" (expected c0, "
-                      "bending_strip, strip_constraints or angle)"),
+                      "bending_strip, strip_constraints, perturbed_lagrange or angle)"),
             std::string::npos);
   EXPECT_NE(test::error_of(two_patch_roll_up("kl_interfaces: {tolerance: 0.5}\n"))
                 .find("kl_interfaces.tolerance: at most 0.01"),
@@ -294,19 +295,22 @@ TEST(KLMultipatch, IndependentCouplingRowsFollowConjecture51) {
   EXPECT_EQ(coupling_rows(false, "angle"), std::make_pair(15, 15));
 }
 
-// AF-BS, whose rows are not yet built for nonlinear analyses, stops the compile at the
-// kl_interfaces entry, saying why.
+// AF-BS and its perturbed Lagrange variant, whose rows are not yet built for nonlinear analyses,
+// stop the compile at the kl_interfaces entry, saying why.
 TEST(KLMultipatch, NonlinearStripConstraintsAreALocatedError) {
-  const std::string strip = two_patch_roll_up("kl_interfaces: {coupling: strip_constraints}\n");
-  try {
-    system::System::compile(io::read_model_string(strip, "m.yaml"));
-    ADD_FAILURE() << "no error";
-  } catch (const system::CompileError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "m.yaml:20: kl_interfaces (left -- right): coupling strip_constraints is built "
-                  "for linear static analyses (solver.linear: true) so far"),
-              std::string::npos)
-        << e.what();
+  for (const std::string coupling : {"strip_constraints", "perturbed_lagrange"}) {
+    const std::string strip = two_patch_roll_up("kl_interfaces: {coupling: " + coupling + "}\n");
+    try {
+      system::System::compile(io::read_model_string(strip, "m.yaml"));
+      ADD_FAILURE() << "no error";
+    } catch (const system::CompileError& e) {
+      EXPECT_NE(std::string(e.what()).find("m.yaml:20: kl_interfaces (left -- right): coupling " +
+                                           coupling +
+                                           " is built for linear static analyses "
+                                           "(solver.linear: true) so far"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }
 
@@ -365,4 +369,78 @@ TEST(KLMultipatch, NonlinearAngleConstraintsKeepTheKink) {
   EXPECT_NEAR(angles[1], 90.0, 1e-3);
   EXPECT_GT(std::abs(angles[1] - 90.0), 1e-6);  // the dropped row: held to first order only
   EXPECT_LE(iterations, 8);
+}
+
+namespace {
+
+// The linear L-plate (examples/kl_l_shaped_plate) with the coupling given, solved by the static
+// solver: the configuration at the load.
+VecX l_plate(model::KLCoupling coupling, double beta, system::System* out = nullptr) {
+  model::Model m =
+      io::read_model_string(test::example_text("kl_l_shaped_plate", "model.yaml"), "model.yaml");
+  m.kl_interfaces.coupling = coupling;
+  m.kl_interfaces.beta = beta;
+  auto sys = test::static_system(m);
+  const test::StaticRun r = test::solve_static(sys, m);
+  EXPECT_EQ(r.failure, "");
+  if (out) *out = std::move(sys);
+  return r.steps.back().q;
+}
+
+}  // namespace
+
+// IGA-thesis Theorem 5.1: the perturbed Lagrange rows ŝ f_s − (ŝ/α₁) λ = 0 (5.24b) are the
+// penalty ŝ α₁ K_sᵀK_s on the strip forces — at α₁ = 1 the solution equals the one of
+// K + (1/c) GᵀG with G the rows and c their compliance, built here by hand from the hinge's
+// stiffness (dense, on the coordinates the clamps leave free) — and, as a penalty, it tends to
+// AF-BS (the strip forces as exact constraints) with an error ∝ 1/α₁.
+TEST(KLMultipatch, PerturbedLagrangeIsAPenaltyOnTheStripForces) {
+  using C = model::KLCoupling;
+  const double alpha = 1.0;
+  system::System pl_sys = system::System::compile(
+      io::read_model_string(test::example_text("kl_l_shaped_plate", "model.yaml"), "model.yaml"));
+  const VecX q_pl = l_plate(C::perturbed_lagrange, alpha, &pl_sys);
+  system::System hinge;
+  l_plate(C::c0, 1.0, &hinge);
+  ASSERT_EQ(hinge.n(), pl_sys.n());
+  const system::LinearConstraints lc = hinge.linear_constraints();
+  ASSERT_EQ(lc.multipliers(), 0);  // the clamps only eliminate
+  // K u = f_ext + penalty, over the free coordinates.
+  system::SpMat Ks;
+  const VecX f = hinge.static_force(hinge.q0(), 1.0, &Ks);  // ∇V(q₀) − f_ext = −f_ext
+  MatX K(Ks);
+  const auto& rows = *pl_sys.nary_constraints().at(0).constraint;
+  ASSERT_GT(rows.compliance(), 0.0);
+  MatX G = MatX::Zero(rows.constraint_count(), pl_sys.n());
+  const MatX Gc = rows.jacobian(VecX::Zero(3 * static_cast<int>(rows.nodes().size())));
+  for (std::size_t a = 0; a < rows.nodes().size(); ++a)
+    G.middleCols<3>(pl_sys.q_offset(rows.nodes()[a])) = Gc.middleCols<3>(3 * static_cast<int>(a));
+  K += G.transpose() * G / rows.compliance();
+  std::vector<int> free;
+  for (int i = 0; i < hinge.n(); ++i)
+    if (!std::binary_search(lc.eliminated.begin(), lc.eliminated.end(), i)) free.push_back(i);
+  MatX Kf(free.size(), free.size());
+  VecX ff(free.size());
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    ff(static_cast<int>(i)) = -f(free[i]);
+    for (std::size_t j = 0; j < free.size(); ++j)
+      Kf(static_cast<int>(i), static_cast<int>(j)) = K(free[i], free[j]);
+  }
+  const VecX uf = Kf.lu().solve(ff);
+  VecX u_pl = q_pl - pl_sys.q0();
+  double diff = 0.0;
+  for (std::size_t i = 0; i < free.size(); ++i)
+    diff = std::max(diff, std::abs(u_pl(free[i]) - uf(static_cast<int>(i))));
+  std::printf("  perturbed Lagrange vs the penalty by hand: %.2e (of %.3e)\n", diff,
+              uf.lpNorm<Eigen::Infinity>());
+  // Both solves carry the penalty's conditioning: their residuals in K + GᵀG/c are 1e-7 (by
+  // hand) and 1.6e-6 (the static solver) of the load.
+  EXPECT_LT(diff, 1e-7 * uf.lpNorm<Eigen::Infinity>());
+  // The limit α₁ → ∞ is AF-BS, approached ∝ 1/α₁.
+  const VecX u_bs = l_plate(C::strip_constraints, 1.0) - pl_sys.q0();
+  const double e3 = (l_plate(C::perturbed_lagrange, 1e3) - pl_sys.q0() - u_bs).norm(),
+               e6 = (l_plate(C::perturbed_lagrange, 1e6) - pl_sys.q0() - u_bs).norm();
+  std::printf("  distance to AF-BS: alpha 1e3 %.3e, 1e6 %.3e\n", e3, e6);
+  EXPECT_NEAR(e3 / e6, 1e3, 100.0);
+  EXPECT_LT(e6, 1e-6 * u_bs.norm());
 }

@@ -195,6 +195,13 @@ void print_kl_interfaces(const system::System& sys, std::FILE* out) {
       case model::KLCoupling::bending_strip:
         coupling = fmt::format("bending_strip (β = {:g}, E_s = {:g})", I.beta, I.young);
         break;
+      case model::KLCoupling::perturbed_lagrange: {
+        const int c = I.constraint_index;
+        coupling = fmt::format(
+            "perturbed_lagrange (α = {:g}, {} rows, all kept)", I.beta,
+            sys.nary_constraints()[static_cast<std::size_t>(c)].constraint->constraint_count());
+        break;
+      }
       case model::KLCoupling::strip_constraints:
       case model::KLCoupling::angle: {
         const int c = I.constraint_index;

@@ -50,7 +50,9 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
   out.r.resize(n + m);
   out.r.head(n) = f + reactions;
   const VecX phi = sys.constraints(q, t);
-  for (int i = 0; i < m; ++i) out.r(n + i) = phi(sys.selected_rows()[i]);
+  const VecX& compliance = sys.selected_compliance();
+  for (int i = 0; i < m; ++i)
+    out.r(n + i) = phi(sys.selected_rows()[i]) - compliance(i) * lambda(i);
   out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
   if (!with_tangent) return;
   const SpMat A = K + sys.constraint_hessian(q, lambda);
@@ -63,6 +65,8 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
       tr.emplace_back(n + it.row(), it.col(), it.value());
       tr.emplace_back(it.col(), n + it.row(), it.value());
     }
+  for (int i = 0; i < m; ++i)
+    if (compliance(i) != 0.0) tr.emplace_back(n + i, n + i, -compliance(i));
   out.K.resize(n + m, n + m);
   out.K.setFromTriplets(tr.begin(), tr.end());
 }

@@ -2,15 +2,16 @@
 // Static equilibrium of any System by load stepping: the one static solver (StaticNewtonSolver,
 // static_newton.hpp) on the System's static problem. The time t of the load functions is read as
 // a load parameter, and at each level the solver finds x = (q, λ) with
-//   R(x, t) = [ ∇V(q) − f_ext(q, t) + G(q)ᵀ λ ;  Φ_sel(q) ] = 0     (DNSM-III (9) without M)
+//   R(x, t) = [ ∇V(q) − f_ext(q, t) + G(q)ᵀ λ ;  Φ_sel(q) − C λ ] = 0  (DNSM-III (9) without M)
 // with the Newton matrix
-//   J = [ ∇²V − ∂f_ext/∂q + Σ λᵢ Hᵢ ,  Gᵀ ;  G , 0 ]
-// (the constant constraint Hessians Hᵢ; ∇V and ∇²V from each element's gradient_in_pattern,
-// elements/element.hpp). Φ_sel are the selected rows of System: the nodes' internal rows and the
-// joints. The System's linear conditions (linear_constraints(): a Kirchhoff–Love patch's
-// supports in a static analysis) are the solver's eliminated coordinates and multiplier rows.
-// A model of Kirchhoff–Love patches alone has no Φ_sel rows: then J = K, symmetric for dead
-// loads, and solved by sparse Cholesky (docs/theory/kl-static.md).
+//   J = [ ∇²V − ∂f_ext/∂q + Σ λᵢ Hᵢ(q) ,  Gᵀ ;  G , −C ]
+// (the constraint Hessians Hᵢ; ∇V and ∇²V from each element's gradient_in_pattern,
+// elements/element.hpp; C the diagonal of the rows' compliances, System::selected_compliance():
+// 0 but for perturbed Lagrange rows, IGA-thesis (5.24b)). Φ_sel are the selected rows of System:
+// the nodes' internal rows and the joints. The System's linear conditions (linear_constraints(): a
+// Kirchhoff–Love patch's supports in a static analysis) are the solver's eliminated coordinates and
+// multiplier rows. A model of Kirchhoff–Love patches alone has no Φ_sel rows: then J = K, symmetric
+// for dead loads, and solved by sparse Cholesky (docs/theory/kl-static.md).
 //
 // Settings from model::Solver: load increment dt up to t_end (nominal levels k·dt); a failing
 // increment is halved, at most max_subdivisions times, and after easy steps the increment grows

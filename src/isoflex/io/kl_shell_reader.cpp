@@ -271,9 +271,11 @@ model::KLCoupling KLShellReader::coupling(const YAML::Node& n, const std::string
   if (c == "c0") return model::KLCoupling::c0;
   if (c == "bending_strip") return model::KLCoupling::bending_strip;
   if (c == "strip_constraints") return model::KLCoupling::strip_constraints;
+  if (c == "perturbed_lagrange") return model::KLCoupling::perturbed_lagrange;
   if (c == "angle") return model::KLCoupling::angle;
   fail(n, key,
-       "unknown coupling \"" + c + "\" (expected c0, bending_strip, strip_constraints or angle)");
+       "unknown coupling \"" + c +
+           "\" (expected c0, bending_strip, strip_constraints, perturbed_lagrange or angle)");
 }
 
 model::KLInterfaces KLShellReader::interfaces(const YAML::Node& n, const model::Model& m) const {

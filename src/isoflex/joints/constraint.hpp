@@ -34,6 +34,9 @@ class Constraint {
   // G̃ annihilating the rigid motions at the midpoint where G does (so that constraint forces
   // G̃ᵀλ keep the momentum maps). The default G(½(q_a + q_b)) is exact for rows at most quadratic.
   virtual MatX discrete_jacobian(CRef q_a, CRef q_b) const { return jacobian(0.5 * (q_a + q_b)); }
+  // > 0: perturbed Lagrange rows, Φ(q) − compliance·λ = 0 (IGA-thesis (5.24b)): a penalty
+  // 1/compliance written with multipliers; such rows need not be independent (static analyses).
+  virtual double compliance() const { return 0.0; }
   // d(t) (constraint_count() entries), asked only when rheonomic().
   virtual bool rheonomic() const { return false; }
   virtual VecX prescribed(double /*t*/) const { return VecX::Zero(constraint_count()); }

@@ -27,6 +27,8 @@ class LinearRows final : public Constraint {
   MatX jacobian(CRef) const override { return C_; }
   void add_constraint_hessian(CRef, CRef, MatX&) const override {}
   bool rheonomic() const override { return static_cast<bool>(d_); }
+  double compliance() const override { return compliance_; }
+  void set_compliance(double c) { compliance_ = c; }
   // Throws std::runtime_error when d(t) has the wrong size or is not finite.
   VecX prescribed(double t) const override;
 
@@ -35,6 +37,7 @@ class LinearRows final : public Constraint {
   MatX C_;
   VecX Q_;
   std::function<VecX(double)> d_;
+  double compliance_ = 0.0;
 };
 
 }  // namespace isoflex::joints

@@ -318,9 +318,10 @@ struct KLLoad {
 // docs/model-files.md "kl_interfaces", docs/theory/multipatch.md). The shared control points are
 // one node either way (C⁰, (4.36c)); c0 alone is a hinge (Fig. 6.20b), bending_strip adds the
 // penalty strip of §4.4.2 with stiffness E_s = β E, strip_constraints its forces as constraints
-// (AF-BS, §5.1; linear analyses for now), angle the continuity constraints on the triples
-// (AF-D, §5.2; at a kink in linear analyses for now).
-enum class KLCoupling { c0, bending_strip, strip_constraints, angle };
+// (AF-BS, §5.1; linear static analyses for now), perturbed_lagrange those rows perturbed by
+// −(1/β) λ (5.24b; linear static analyses), angle the continuity constraints on the triples
+// (AF-D, §5.2).
+enum class KLCoupling { c0, bending_strip, strip_constraints, perturbed_lagrange, angle };
 struct KLInterfacePair {  // the setting of the interfaces between two shells
   std::string a, b;
   KLCoupling coupling = KLCoupling::bending_strip;
@@ -329,7 +330,7 @@ struct KLInterfacePair {  // the setting of the interfaces between two shells
 };
 struct KLInterfaces {
   KLCoupling coupling = KLCoupling::bending_strip;
-  double beta = 1e3;  // β₁ = E_s / E of the bending strips (4.40)
+  double beta = 1e3;  // β₁ = E_s / E of the bending strips (4.40), or α₁ of (5.24b)
   // Two points coincide within this times the diagonal of the box of all KL control points.
   double tolerance = 1e-6;
   std::vector<KLInterfacePair> pairs;

@@ -153,6 +153,9 @@ class System {
   int dof() const { return k_ - cut_rank(); }  // degrees of freedom n − m
   const std::vector<int>& selected_rows() const { return selected_rows_; }
   const std::vector<int>& cut_rows() const { return cut_rows_; }  // selected rows of cut joints
+  // Per selected row, the compliance c of a perturbed Lagrange row, Φ − c λ = 0
+  // (joints/constraint.hpp); 0 for every other row.
+  const VecX& selected_compliance() const { return selected_compliance_; }
   const std::vector<int>& redundant_rows() const { return redundant_rows_; }
   const std::vector<JointInstance>& joints() const { return joints_; }
   const std::vector<ConstraintInstance>& nary_constraints() const { return nary_; }
@@ -363,6 +366,7 @@ class System {
   std::vector<int> roots_;
   std::vector<int> root_nu_offset_;
   std::vector<int> selected_rows_, cut_rows_, redundant_rows_;
+  VecX selected_compliance_;
   std::vector<ProbeInstance> probes_;
   std::vector<BeamInstance> beams_;
   std::vector<std::string> node_names_;  // body name or "<beam>[i]"

@@ -870,7 +870,9 @@ void System::select_loop_rows() {
     if (!J.tree)
       for (int i = 0; i < J.joint->constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
   for (const auto& C : nary_)
-    for (int i = 0; i < C.constraint->constraint_count(); ++i) cut_all.push_back(C.row_offset + i);
+    if (C.constraint->compliance() == 0.0)
+      for (int i = 0; i < C.constraint->constraint_count(); ++i)
+        cut_all.push_back(C.row_offset + i);
   for (int i = 0; i < internal_rows_; ++i) selected_rows_.push_back(i);
   for (const auto& J : joints_)
     if (J.tree)
@@ -892,6 +894,16 @@ void System::select_loop_rows() {
         redundant_rows_.push_back(cut_all[i]);
       }
     }
+  }
+  // Perturbed Lagrange rows are all kept: their compliance makes the Newton matrix regular.
+  selected_compliance_ = VecX::Zero(static_cast<Eigen::Index>(selected_rows_.size()));
+  for (const auto& C : nary_) {
+    const double c = C.constraint->compliance();
+    if (c == 0.0) continue;
+    for (int i = 0; i < C.constraint->constraint_count(); ++i)
+      selected_rows_.push_back(C.row_offset + i);
+    selected_compliance_.conservativeResize(static_cast<Eigen::Index>(selected_rows_.size()));
+    selected_compliance_.tail(C.constraint->constraint_count()).setConstant(c);
   }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
   // of d the rank test cannot see, so a moving row must be independent.

@@ -104,6 +104,9 @@ void System::add_kl_patches(const model::Model& m) {
 // - strip_constraints (AF-BS, §5.1): the forces of that strip with β = 1 as constraint rows
 //   (5.5b), f_s = K_s (x − X) in a linear analysis; redundant rows (Conjecture 5.1, the clamped
 //   boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1);
+// - perturbed_lagrange (§5.1.3.2): those rows perturbed, ŝ f_s − (ŝ/α₁) λ = 0 (5.24b) with
+//   α₁ = beta; all kept (the compliance makes the Newton matrix regular). Eliminating λ = α₁ f_s
+//   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1);
 // - angle (AF-D, §5.2): the continuity constraints on each triple (TripleContinuityRows), in
 //   every analysis.
 // Constraint rows are scaled as in (4.42)/(5.5) in a static analysis: to the size
@@ -193,19 +196,24 @@ void System::add_kl_couplings(const model::Model& m) {
       return (m.solver.analysis == model::Analysis::statics ? row_scale() : 1.0) / norm;
     };
     std::shared_ptr<const joints::Constraint> rows;
-    if (I.coupling == model::KLCoupling::strip_constraints) {
+    const bool perturbed = I.coupling == model::KLCoupling::perturbed_lagrange;
+    if (I.coupling == model::KLCoupling::strip_constraints || perturbed) {
       if (!linear)
         compile_fail(source, what,
-                     "coupling strip_constraints is built for linear static analyses "
-                     "(solver.linear: true) so far: its rows are the strip's forces (5.5b), "
-                     "nonlinear in the control points otherwise");
+                     fmt::format("coupling {} is built for linear static analyses "
+                                 "(solver.linear: true) so far: its rows are the strip's forces "
+                                 "(5.5b), nonlinear in the control points otherwise",
+                                 perturbed ? "perturbed_lagrange" : "strip_constraints"));
       I.young = stiff.E;
       const auto s = strip(I.young);
       SpMat K;
       s->internal_force(s->reference_positions(), elements::KLKinematics::linear, &K);
       MatX C(K);
-      C *= scaled(C);
-      rows = std::make_shared<joints::LinearRows>(nodes, std::move(C), Q);
+      const double factor = scaled(C);
+      auto r = std::make_shared<joints::LinearRows>(nodes, factor * C, Q);
+      // (5.24b): ŝ f_s − (ŝ/α₁) λ = 0 with the rows' scale ŝ, so λ = α₁ f_s.
+      if (perturbed) r->set_compliance(factor / I.beta);
+      rows = std::move(r);
     } else {
       // A linear analysis takes the rows linearized at the reference, as it does every equation.
       const joints::TripleContinuityRows unit(nodes, Q);
@@ -217,9 +225,11 @@ void System::add_kl_couplings(const model::Model& m) {
         rows = std::make_shared<joints::TripleContinuityRows>(nodes, Q, factor);
     }
     I.constraint_index = static_cast<int>(nary_.size());
-    nary_.push_back(
-        {what, I.coupling == model::KLCoupling::angle ? "angle_constraints" : "strip_constraints",
-         std::move(rows), 0, source});
+    nary_.push_back({what,
+                     I.coupling == model::KLCoupling::angle ? "angle_constraints"
+                     : perturbed                            ? "perturbed_strip_constraints"
+                                                            : "strip_constraints",
+                     std::move(rows), 0, source});
   }
 }
 
