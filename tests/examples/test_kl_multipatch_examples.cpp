@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,40 @@ TEST(KLTwoPatchRollUp, BetaPlotScript) {
   const auto no = test::run_shell(script + bad + " --out " + (dir.path() / "c.png").string());
   EXPECT_EQ(no.code, 2) << no.out;
   EXPECT_NE(no.out.find("expected the columns"), std::string::npos) << no.out;
+}
+
+// tools/kl_multipatch_convergence.py (the README's Figs. 6.18/6.19) on p = 5, 7 and 15 knots, one
+// and two patches: against the finer single patch, AF-D at 15 knots is as accurate as the single
+// patch (its cut is C¹), the strip (β₁ = 10³) stops at its penalty error; a bad option is exit 2.
+TEST(KLTwoPatchRollUp, EnergyConvergenceScript) {
+  const test::TempDir dir(test::temp_dir("isoflex_", "energy_convergence"));
+  const std::string script = std::string("/usr/bin/python3 ") + ISOFLEX_SOURCE_DIR +
+                             "/tools/kl_multipatch_convergence.py --isoflex " + ISOFLEX_BINARY +
+                             " ";
+  const std::string csv = (dir.path() / "e.csv").string();
+  const auto ok = test::run_shell(script + "--degrees 5 --knots 7,15 --patches 1,2 --csv " + csv);
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  double af_d = -1.0, strip = -1.0;
+  int rows = 0;
+  // Columns: patches, coupling, p, knots, coordinates, unknowns, energy, tip_x, relative_error.
+  std::istringstream lines(test::read_text(csv));
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "patches,coupling,p,knots,coordinates,unknowns,energy,tip_x,relative_error");
+  while (std::getline(lines, line)) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 9u) << line;
+    ++rows;
+    if (f[0] == "2" && f[3] == "15") (f[1] == "angle" ? af_d : strip) = std::stod(f[8]);
+  }
+  std::printf("  2 patches, 15 knots: AF-D %.2e, strip %.2e\n", af_d, strip);
+  EXPECT_EQ(rows, 2 + 2 * 2);
+  EXPECT_GE(af_d, 0.0);
+  EXPECT_LT(af_d, 1e-7);
+  EXPECT_GT(strip, 1e-6);
+  EXPECT_EQ(test::run_shell(script + "--knots x").code, 2);
 }
 
 namespace {
