@@ -185,3 +185,18 @@ TEST(FixedPatternLU, OutOfMemoryIsReportedAsSuch) {
                 0.1, "in the sparse Cholesky factorization (CHOLMOD) at 90000 unknowns"),
             0);
 }
+
+// leading_rows_lu: the rows of the largest pivots, as many as asked, whatever their rank — a row
+// that is small (a pivot far below the others) goes first when fewer are asked for.
+TEST(LinearSolver, LeadingRowsAreThoseOfTheLargestPivots) {
+  MatX G(4, 3);
+  G << 1, 0, 0,    // large
+      1e-9, 1, 0,  // large after elimination
+      0, 0, 1e-6,  // small pivot
+      2, 0, 0;     // the largest entry, dependent on row 0
+  EXPECT_EQ(solve::leading_rows_lu(G, 2), (std::vector<int>{1, 3}));
+  EXPECT_EQ(solve::leading_rows_lu(G, 3), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(solve::leading_rows_lu(G, 9).size(), 4u);
+  EXPECT_TRUE(solve::leading_rows_lu(G, 0).empty());
+  EXPECT_TRUE(solve::leading_rows_lu(MatX(5, 0), 2).empty());
+}

@@ -205,11 +205,12 @@ void print_kl_interfaces(const system::System& sys, std::FILE* out) {
       case model::KLCoupling::strip_constraints:
       case model::KLCoupling::angle: {
         const int c = I.constraint_index;
+        const auto& rows = *sys.nary_constraints()[static_cast<std::size_t>(c)].constraint;
         coupling = fmt::format(
-            "{} ({} rows, {} independent)",
+            "{} ({} rows, {} independent{})",
             I.coupling == model::KLCoupling::angle ? "angle" : "strip_constraints",
-            sys.nary_constraints()[static_cast<std::size_t>(c)].constraint->constraint_count(),
-            sys.independent_rows_of(c));
+            rows.constraint_count(), sys.independent_rows_of(c),
+            rows.reselected() ? " at the reference, chosen again in every load step" : "");
         break;
       }
     }

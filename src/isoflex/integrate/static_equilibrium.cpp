@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <utility>
 
 #include "isoflex/solve/linear_solver.hpp"
@@ -31,9 +33,41 @@ bool has_follower_loads(const system::System& sys) {
                      [](const auto& L) { return L->follower(); });
 }
 
-// R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale.
-void evaluate(const system::System& sys, const VecX& x, double t, bool with_tangent,
-              ResidualEvaluation& out) {
+// The selected rows of the System's reselected groups that are not kept at q: per group, the
+// group.rank rows of the largest pivots of the full-pivot LU of its rows modulo the linear
+// conditions (IGA-thesis Alg. 5.1, (5.35)), a mask over the m selected rows.
+// The count stays that of the reference: off the constraint manifold the strip's stress adds
+// rank (geometric stiffness) that the constraints do not have.
+std::vector<bool> dropped_rows(const system::System& sys, const SpMat& G) {
+  std::vector<bool> out(static_cast<std::size_t>(G.rows()), false);
+  for (const auto& g : sys.reselected_groups()) {
+    system::Triplets pick;
+    for (std::size_t i = 0; i < g.positions.size(); ++i)
+      pick.emplace_back(static_cast<int>(i), g.positions[i], 1.0);
+    SpMat S(static_cast<int>(g.positions.size()), G.rows());
+    S.setFromTriplets(pick.begin(), pick.end());
+    const MatX Gr = MatX(sys.modulo_linear_conditions(SpMat(S * G)));
+    for (int p : g.positions) out[static_cast<std::size_t>(p)] = true;
+    for (int i : solve::leading_rows_lu(Gr, g.rank))
+      out[static_cast<std::size_t>(g.positions[static_cast<std::size_t>(i)])] = false;
+  }
+  return out;
+}
+
+// The rows dropped in the current load step: chosen at its first evaluation (the start of its
+// Newton iteration) and kept for the step, so that the equations do not change between
+// iterations (a selection in every iteration switches rows back and forth off the manifold and
+// stalls Newton, as the thesis warns after (5.34)).
+struct RowSelection {
+  double t = std::numeric_limits<double>::quiet_NaN();
+  std::vector<bool> dropped;
+};
+
+// R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale. The
+// reselected rows not kept (RowSelection) get the equation λᵢ = 0 instead, their forces and
+// Hessians left out.
+void evaluate(const system::System& sys, RowSelection& selection, const VecX& x, double t,
+              bool with_tangent, ResidualEvaluation& out) {
   const int n = sys.n(), m = sys.m_selected();
   const VecX q = x.head(n);
   double load_norm = 0.0;
@@ -45,17 +79,28 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
   SpMat K;
   const VecX f = sys.static_force(q, t, with_tangent ? &K : nullptr, &load_norm);
   const VecX lambda = x.tail(m);
-  const SpMat G = sys.jacobian(q);
-  const VecX reactions = G.transpose() * lambda;
+  SpMat G = sys.jacobian(q);
+  if (!(selection.t == t)) selection = {t, dropped_rows(sys, G)};
+  const std::vector<bool>& dropped = selection.dropped;
+  VecX lambda_kept = lambda;
+  if (!sys.reselected_groups().empty()) {
+    VecX keep = VecX::Ones(m);
+    for (int i = 0; i < m; ++i)
+      if (dropped[static_cast<std::size_t>(i)]) keep(i) = lambda_kept(i) = 0.0;
+    G = keep.asDiagonal() * G;
+  }
+  const VecX reactions = G.transpose() * lambda_kept;
   out.r.resize(n + m);
   out.r.head(n) = f + reactions;
   const VecX phi = sys.constraints(q, t);
   const VecX& compliance = sys.selected_compliance();
   for (int i = 0; i < m; ++i)
-    out.r(n + i) = phi(sys.selected_rows()[i]) - compliance(i) * lambda(i);
+    out.r(n + i) = dropped[static_cast<std::size_t>(i)]
+                       ? lambda(i)
+                       : phi(sys.selected_rows()[i]) - compliance(i) * lambda(i);
   out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
   if (!with_tangent) return;
-  const SpMat A = K + sys.constraint_hessian(q, lambda);
+  const SpMat A = K + sys.constraint_hessian(q, lambda_kept);
   system::Triplets tr;
   tr.reserve(A.nonZeros() + 2 * G.nonZeros());
   for (int c = 0; c < A.outerSize(); ++c)
@@ -65,8 +110,10 @@ void evaluate(const system::System& sys, const VecX& x, double t, bool with_tang
       tr.emplace_back(n + it.row(), it.col(), it.value());
       tr.emplace_back(it.col(), n + it.row(), it.value());
     }
-  for (int i = 0; i < m; ++i)
+  for (int i = 0; i < m; ++i) {
     if (compliance(i) != 0.0) tr.emplace_back(n + i, n + i, -compliance(i));
+    if (dropped[static_cast<std::size_t>(i)]) tr.emplace_back(n + i, n + i, 1.0);
+  }
   out.K.resize(n + m, n + m);
   out.K.setFromTriplets(tr.begin(), tr.end());
 }
@@ -85,16 +132,18 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   pb.symmetric = m == 0 && !follower;
   pb.linear = linear && !(patches_only && follower);
   const system::System* S = &sys;
+  auto selection = std::make_shared<RowSelection>();
   if (!linear || patches_only) {
-    pb.evaluate = [S](const VecX& x, double t, bool with_tangent, ResidualEvaluation& out) {
-      evaluate(*S, x, t, with_tangent, out);
+    pb.evaluate = [S, selection](const VecX& x, double t, bool with_tangent,
+                                 ResidualEvaluation& out) {
+      evaluate(*S, *selection, x, t, with_tangent, out);
     };
     return pb;
   }
   // Geometrically linear: R(X, t) + J(X, t) (x − X), linearized at the unloaded reference.
   const VecX X = pb.reference;
-  pb.evaluate = [S, X](const VecX& x, double t, bool, ResidualEvaluation& out) {
-    evaluate(*S, X, t, true, out);
+  pb.evaluate = [S, X, selection](const VecX& x, double t, bool, ResidualEvaluation& out) {
+    evaluate(*S, *selection, X, t, true, out);
     out.r += out.K * (x - X);
   };
   return pb;

@@ -7,7 +7,9 @@
 //   J = [ ∇²V − ∂f_ext/∂q + Σ λᵢ Hᵢ(q) ,  Gᵀ ;  G , −C ]
 // (the constraint Hessians Hᵢ; ∇V and ∇²V from each element's gradient_in_pattern,
 // elements/element.hpp; C the diagonal of the rows' compliances, System::selected_compliance():
-// 0 but for perturbed Lagrange rows, IGA-thesis (5.24b)). Φ_sel are the selected rows of System:
+// 0 but for perturbed Lagrange rows, IGA-thesis (5.24b)). Rows reselected in every load step
+// (System::reselected_groups(): the AF-BS strip forces of a nonlinear analysis) that are not
+// kept in this step have the equation λᵢ = 0 instead. Φ_sel are the selected rows of System:
 // the nodes' internal rows and the joints. The System's linear conditions (linear_constraints(): a
 // Kirchhoff–Love patch's supports in a static analysis) are the solver's eliminated coordinates and
 // multiplier rows. A model of Kirchhoff–Love patches alone has no Φ_sel rows: then J = K, symmetric

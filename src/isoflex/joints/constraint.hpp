@@ -37,6 +37,11 @@ class Constraint {
   // > 0: perturbed Lagrange rows, Φ(q) − compliance·λ = 0 (IGA-thesis (5.24b)): a penalty
   // 1/compliance written with multipliers; such rows need not be independent (static analyses).
   virtual double compliance() const { return 0.0; }
+  // True: rows whose independent subset changes with the configuration (the AF-BS strip forces,
+  // IGA-thesis Conjecture 5.1): all are selected, and a static analysis keeps, in every load
+  // step, as many as are independent at the reference, chosen by full-pivot LU at the step's
+  // start (Alg. 5.1 as (5.35)); the others' multipliers are held at 0.
+  virtual bool reselected() const { return false; }
   // d(t) (constraint_count() entries), asked only when rheonomic().
   virtual bool rheonomic() const { return false; }
   virtual VecX prescribed(double /*t*/) const { return VecX::Zero(constraint_count()); }

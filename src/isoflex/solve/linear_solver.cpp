@@ -327,6 +327,16 @@ std::vector<int> independent_rows_lu(const MatX& G, double threshold) {
   return rows;
 }
 
+std::vector<int> leading_rows_lu(const MatX& G, int count) {
+  if (G.rows() == 0 || G.cols() == 0 || count <= 0) return {};
+  const Eigen::FullPivLU<MatX> lu(G);
+  std::vector<int> rows;
+  const auto& p = lu.permutationP().indices();
+  for (int i = 0; i < G.rows(); ++i)
+    if (p(i) < count) rows.push_back(i);
+  return rows;
+}
+
 std::vector<int> independent_rows_qr(const MatX& G, double threshold) {
   if (G.rows() == 0 || G.cols() == 0) return {};
   Eigen::ColPivHouseholderQR<MatX> qr(G.transpose());

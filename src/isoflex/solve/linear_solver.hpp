@@ -105,6 +105,9 @@ class FixedPatternCholesky {
 // (5.27), Rem. 5.5): returns the indices of rank(G) rows that span the row space, in the order of
 // G. `threshold` is relative to the largest pivot.
 std::vector<int> independent_rows_lu(const MatX& G, double threshold = 1e-10);
+// The `count` rows of G at the first pivot positions of its full-pivot LU (the largest pivots
+// first), sorted; all rows if G has fewer.
+std::vector<int> leading_rows_lu(const MatX& G, int count);
 // The same selection by Householder QR with column pivoting of Gᵀ.
 std::vector<int> independent_rows_qr(const MatX& G, double threshold = 1e-10);
 

@@ -84,6 +84,8 @@ int System::nary_of_row(int row) const {
 }
 
 int System::independent_rows_of(int c) const {
+  for (const ReselectedGroup& g : reselected_groups_)
+    if (g.constraint == c) return g.rank;
   const ConstraintInstance& C = nary_[static_cast<std::size_t>(c)];
   return static_cast<int>(std::count_if(cut_rows_.begin(), cut_rows_.end(), [&](int r) {
     return r >= C.row_offset && r < C.row_offset + C.constraint->constraint_count();

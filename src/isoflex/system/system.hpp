@@ -156,6 +156,18 @@ class System {
   // Per selected row, the compliance c of a perturbed Lagrange row, Φ − c λ = 0
   // (joints/constraint.hpp); 0 for every other row.
   const VecX& selected_compliance() const { return selected_compliance_; }
+  // Per constraint whose rows are reselected at every Newton iterate
+  // (joints::Constraint::reselected()): their positions in selected_rows() and how many are
+  // independent at the reference modulo the linear conditions. Empty for most models.
+  struct ReselectedGroup {
+    int constraint = -1;  // in nary_constraints()
+    std::vector<int> positions;
+    int rank = 0;
+  };
+  const std::vector<ReselectedGroup>& reselected_groups() const { return reselected_groups_; }
+  // G with the eliminated coordinates' columns zeroed and projected off the rows of the linear
+  // conditions (the row selection of a static analysis, at compile and at every iterate).
+  SpMat modulo_linear_conditions(const SpMat& G) const;
   const std::vector<int>& redundant_rows() const { return redundant_rows_; }
   const std::vector<JointInstance>& joints() const { return joints_; }
   const std::vector<ConstraintInstance>& nary_constraints() const { return nary_; }
@@ -169,7 +181,8 @@ class System {
   joints::Joint::CRef node_q(const VecX& q, int node) const;
   // Which joint (index) or −1 (internal or an n-ary constraint) a row belongs to.
   int joint_of_row(int row) const;
-  // The rows of n-ary constraint c (index into nary_constraints()) kept as independent.
+  // The rows of n-ary constraint c (index into nary_constraints()) kept as independent (for rows
+  // reselected at every iterate: how many are kept, the count at the reference).
   int independent_rows_of(int c) const;
   // Which n-ary constraint (index into nary_constraints()) or −1 a row belongs to.
   int nary_of_row(int row) const;
@@ -302,9 +315,6 @@ class System {
   void add_shells(Build& build);
   void add_kl_patches(const model::Model& m);  // system_kl_patches.cpp
   void add_kl_couplings(const model::Model& m);
-  // G with the eliminated coordinates' columns zeroed and projected off the rows of the linear
-  // conditions (select_loop_rows in a static analysis).
-  SpMat modulo_linear_conditions(const SpMat& G) const;
   void finish_nodes(Build& build);
   void assemble_mass();
   void add_body_loads(Build& build);
@@ -367,6 +377,7 @@ class System {
   std::vector<int> root_nu_offset_;
   std::vector<int> selected_rows_, cut_rows_, redundant_rows_;
   VecX selected_compliance_;
+  std::vector<ReselectedGroup> reselected_groups_;
   std::vector<ProbeInstance> probes_;
   std::vector<BeamInstance> beams_;
   std::vector<std::string> node_names_;  // body name or "<beam>[i]"

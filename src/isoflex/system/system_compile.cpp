@@ -870,7 +870,7 @@ void System::select_loop_rows() {
     if (!J.tree)
       for (int i = 0; i < J.joint->constraint_count(); ++i) cut_all.push_back(J.row_offset + i);
   for (const auto& C : nary_)
-    if (C.constraint->compliance() == 0.0)
+    if (C.constraint->compliance() == 0.0 && !C.constraint->reselected())
       for (int i = 0; i < C.constraint->constraint_count(); ++i)
         cut_all.push_back(C.row_offset + i);
   for (int i = 0; i < internal_rows_; ++i) selected_rows_.push_back(i);
@@ -895,15 +895,28 @@ void System::select_loop_rows() {
       }
     }
   }
-  // Perturbed Lagrange rows are all kept: their compliance makes the Newton matrix regular.
+  // Perturbed Lagrange rows are all kept: their compliance makes the Newton matrix regular. Rows
+  // reselected at every iterate are all kept here; the static solver picks among them.
   selected_compliance_ = VecX::Zero(static_cast<Eigen::Index>(selected_rows_.size()));
   for (const auto& C : nary_) {
     const double c = C.constraint->compliance();
-    if (c == 0.0) continue;
-    for (int i = 0; i < C.constraint->constraint_count(); ++i)
+    if (c == 0.0 && !C.constraint->reselected()) continue;
+    ReselectedGroup group;
+    group.constraint = static_cast<int>(&C - nary_.data());
+    std::vector<int> rows;
+    for (int i = 0; i < C.constraint->constraint_count(); ++i) {
+      group.positions.push_back(static_cast<int>(selected_rows_.size()));
+      rows.push_back(C.row_offset + i);
       selected_rows_.push_back(C.row_offset + i);
+    }
     selected_compliance_.conservativeResize(static_cast<Eigen::Index>(selected_rows_.size()));
     selected_compliance_.tail(C.constraint->constraint_count()).setConstant(c);
+    if (C.constraint->reselected()) {
+      group.rank = static_cast<int>(
+          solve::independent_rows_lu(MatX(modulo_linear_conditions(jacobian_rows(q0_, rows))))
+              .size());
+      reselected_groups_.push_back(std::move(group));
+    }
   }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
   // of d the rank test cannot see, so a moving row must be independent.

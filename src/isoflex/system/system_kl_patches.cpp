@@ -11,6 +11,7 @@
 #include "isoflex/joints/triple_continuity_rows.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
 #include "isoflex/system/kl_model.hpp"
+#include "isoflex/system/strip_force_rows.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::system {
@@ -102,8 +103,10 @@ void System::add_kl_patches(const model::Model& m) {
 //   the thickness of the stiffer patch (the larger E t³), so that β is relative to the patches'
 //   own bending stiffness;
 // - strip_constraints (AF-BS, §5.1): the forces of that strip with β = 1 as constraint rows
-//   (5.5b), f_s = K_s (x − X) in a linear analysis; redundant rows (Conjecture 5.1, the clamped
-//   boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1);
+//   (5.5b), f_s = K_s (x − X) in a linear analysis, whose redundant rows (Conjecture 5.1, the
+//   clamped boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1); in a
+//   nonlinear static analysis the strip's nonlinear forces (StripForceRows), selected at every
+//   Newton iterate;
 // - perturbed_lagrange (§5.1.3.2): those rows perturbed, ŝ f_s − (ŝ/α₁) λ = 0 (5.24b) with
 //   α₁ = beta; all kept (the compliance makes the Newton matrix regular). Eliminating λ = α₁ f_s
 //   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1);
@@ -198,22 +201,28 @@ void System::add_kl_couplings(const model::Model& m) {
     std::shared_ptr<const joints::Constraint> rows;
     const bool perturbed = I.coupling == model::KLCoupling::perturbed_lagrange;
     if (I.coupling == model::KLCoupling::strip_constraints || perturbed) {
-      if (!linear)
+      const bool statics = m.solver.analysis == model::Analysis::statics;
+      if (perturbed ? !linear : !statics)
         compile_fail(source, what,
-                     fmt::format("coupling {} is built for linear static analyses "
-                                 "(solver.linear: true) so far: its rows are the strip's forces "
-                                 "(5.5b), nonlinear in the control points otherwise",
-                                 perturbed ? "perturbed_lagrange" : "strip_constraints"));
+                     perturbed ? "coupling perturbed_lagrange is built for linear static analyses "
+                                 "(solver.linear: true) so far"
+                               : "coupling strip_constraints is built for static analyses so far: "
+                                 "its rows, the strip's forces (5.5b), have no discrete "
+                                 "derivative for the time integrators");
       I.young = stiff.E;
       const auto s = strip(I.young);
       SpMat K;
       s->internal_force(s->reference_positions(), elements::KLKinematics::linear, &K);
       MatX C(K);
       const double factor = scaled(C);
-      auto r = std::make_shared<joints::LinearRows>(nodes, factor * C, Q);
-      // (5.24b): ŝ f_s − (ŝ/α₁) λ = 0 with the rows' scale ŝ, so λ = α₁ f_s.
-      if (perturbed) r->set_compliance(factor / I.beta);
-      rows = std::move(r);
+      if (linear) {
+        auto r = std::make_shared<joints::LinearRows>(nodes, factor * C, Q);
+        // (5.24b): ŝ f_s − (ŝ/α₁) λ = 0 with the rows' scale ŝ, so λ = α₁ f_s.
+        if (perturbed) r->set_compliance(factor / I.beta);
+        rows = std::move(r);
+      } else {
+        rows = std::make_shared<StripForceRows>(s, nodes, factor);
+      }
     } else {
       // A linear analysis takes the rows linearized at the reference, as it does every equation.
       const joints::TripleContinuityRows unit(nodes, Q);
