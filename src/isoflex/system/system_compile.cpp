@@ -25,6 +25,7 @@
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/normal_equations.hpp"
 #include "isoflex/system/kl_model.hpp"
+#include "isoflex/system/row_selection.hpp"
 #include "isoflex/system/system.hpp"
 
 namespace isoflex::system {
@@ -881,9 +882,9 @@ void System::select_loop_rows() {
   if (!cut_all.empty()) {
     SpMat Gq = jacobian_rows(q0_, cut_all);
     if (!linear_.eliminated.empty() || linear_.multipliers() > 0) Gq = modulo_linear_conditions(Gq);
-    const MatX Gc = MatX(Gq * tree_null_space(q0_));
-    const auto keep = solve::independent_rows_lu(Gc);
-    cut_rank_qr_ = static_cast<int>(solve::independent_rows_qr(Gc).size());
+    const IndependentRows independent = independent_rows(SpMat(Gq * tree_null_space(q0_)));
+    const std::vector<int>& keep = independent.rows;
+    cut_rank_qr_ = independent.rank_qr;
     std::vector<bool> kept(cut_all.size(), false);
     for (int i : keep) kept[i] = true;
     for (std::size_t i = 0; i < cut_all.size(); ++i) {
@@ -936,21 +937,20 @@ SpMat System::modulo_linear_conditions(const SpMat& G) const {
   std::vector<bool> fixed(static_cast<std::size_t>(n()), false);
   for (int i : linear_.eliminated) fixed[static_cast<std::size_t>(i)] = true;
   const auto free_columns = [&](const SpMat& A) {
-    MatX out = MatX(A);
-    for (int j = 0; j < n(); ++j)
-      if (fixed[static_cast<std::size_t>(j)]) out.col(j).setZero();
+    SpMat out = A;
+    out.prune(
+        [&](Eigen::Index, Eigen::Index j, double) { return !fixed[static_cast<std::size_t>(j)]; });
     return out;
   };
-  MatX Gf = free_columns(G);
-  if (linear_.multipliers() > 0) {
-    // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C (on the free
-    // coordinates, where C has full row rank: the static solver needs it).
-    const SpMat C = free_columns(linear_.C).sparseView();
-    solve::NormalEquations normal;
-    for (Eigen::Index i = 0; i < Gf.rows(); ++i) {
-      const VecX g = Gf.row(i).transpose();
-      Gf.row(i) -= (C.transpose() * normal.solve(C, C * g)).transpose();
-    }
+  if (linear_.multipliers() == 0) return free_columns(G);
+  // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C (on the free coordinates,
+  // where C has full row rank: the static solver needs it).
+  MatX Gf = MatX(free_columns(G));
+  const SpMat C = free_columns(linear_.C);
+  solve::NormalEquations normal;
+  for (Eigen::Index i = 0; i < Gf.rows(); ++i) {
+    const VecX g = Gf.row(i).transpose();
+    Gf.row(i) -= (C.transpose() * normal.solve(C, C * g)).transpose();
   }
   return Gf.sparseView();
 }

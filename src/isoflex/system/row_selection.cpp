@@ -1,0 +1,105 @@
+#include "isoflex/system/row_selection.hpp"
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
+#include <numeric>
+
+#include "isoflex/solve/linear_solver.hpp"
+
+namespace isoflex::system {
+
+namespace {
+
+// Union–find over the rows.
+int root(std::vector<int>& parent, int i) {
+  while (parent[static_cast<std::size_t>(i)] != i)
+    i = parent[static_cast<std::size_t>(i)] =
+        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+  return i;
+}
+
+struct Block {
+  std::vector<int> rows, cols;
+};
+
+}  // namespace
+
+IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G, double threshold) {
+  IndependentRows out;
+  const int m = static_cast<int>(G.rows());
+  if (m == 0 || G.cols() == 0) return out;
+  std::vector<int> parent(static_cast<std::size_t>(m));
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::vector<int>> col_rows(static_cast<std::size_t>(G.cols()));
+  for (int k = 0; k < G.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(G, k); it; ++it)
+      if (it.value() != 0.0) col_rows[static_cast<std::size_t>(it.col())].push_back(it.row());
+  for (const auto& rows : col_rows)
+    for (std::size_t i = 1; i < rows.size(); ++i)
+      parent[static_cast<std::size_t>(root(parent, rows[i]))] = root(parent, rows[0]);
+  std::vector<int> block_of(static_cast<std::size_t>(m), -1);
+  std::vector<Block> blocks;
+  for (int r = 0; r < m; ++r) {
+    int& b = block_of[static_cast<std::size_t>(root(parent, r))];
+    if (b < 0) {
+      b = static_cast<int>(blocks.size());
+      blocks.emplace_back();
+    }
+    blocks[static_cast<std::size_t>(b)].rows.push_back(r);
+  }
+  for (int c = 0; c < static_cast<int>(col_rows.size()); ++c) {
+    const auto& rows = col_rows[static_cast<std::size_t>(c)];
+    if (!rows.empty())
+      blocks[static_cast<std::size_t>(block_of[static_cast<std::size_t>(root(parent, rows[0]))])]
+          .cols.push_back(c);
+  }
+  // Each block dense, factorized; the pivots judged against the largest of all blocks.
+  std::vector<Eigen::FullPivLU<MatX>> lus;
+  std::vector<Eigen::ColPivHouseholderQR<MatX>> qrs;
+  double lu_max = 0.0, qr_max = 0.0;
+  for (const Block& b : blocks) {
+    if (b.cols.empty()) {  // a zero row (Eigen's decompositions assert on empty matrices)
+      lus.emplace_back();
+      qrs.emplace_back();
+      continue;
+    }
+    MatX D = MatX::Zero(static_cast<Eigen::Index>(b.rows.size()),
+                        static_cast<Eigen::Index>(b.cols.size()));
+    for (std::size_t j = 0; j < b.cols.size(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(G, b.cols[j]); it; ++it) {
+        const auto i = std::lower_bound(b.rows.begin(), b.rows.end(), it.row()) - b.rows.begin();
+        D(i, static_cast<Eigen::Index>(j)) = it.value();
+      }
+    lus.emplace_back(D);
+    qrs.emplace_back(MatX(D.transpose()));
+    lu_max = std::max(lu_max, std::abs(lus.back().maxPivot()));
+    qr_max = std::max(qr_max, std::abs(qrs.back().maxPivot()));
+  }
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const Block& b = blocks[k];
+    if (b.cols.empty()) continue;  // zero rows: dependent
+    const auto& lu = lus[k];
+    int rank = 0;
+    for (Eigen::Index i = 0; i < lu.nonzeroPivots(); ++i)
+      if (std::abs(lu.matrixLU()(i, i)) > threshold * lu_max) ++rank;
+    const auto& p = lu.permutationP().indices();
+    for (std::size_t i = 0; i < b.rows.size(); ++i)
+      if (p(static_cast<Eigen::Index>(i)) < rank) out.rows.push_back(b.rows[i]);
+    const auto& qr = qrs[k];
+    for (Eigen::Index i = 0; i < qr.nonzeroPivots(); ++i)
+      if (std::abs(qr.matrixQR()(i, i)) > threshold * qr_max) ++out.rank_qr;
+  }
+  std::sort(out.rows.begin(), out.rows.end());
+  return out;
+}
+
+IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double threshold) {
+  if (static_cast<double>(G.rows()) * static_cast<double>(G.cols()) > kDenseEntries)
+    return independent_rows_by_blocks(G, threshold);
+  const MatX D(G);
+  return {solve::independent_rows_lu(D, threshold),
+          static_cast<int>(solve::independent_rows_qr(D, threshold).size())};
+}
+
+}  // namespace isoflex::system

@@ -1,0 +1,31 @@
+#pragma once
+// The independent rows of a sparse constraint Jacobian (the loop-closing rows of a model,
+// IGA-thesis Alg. 5.1). Up to kDenseEntries entries, by the dense factorizations of the whole
+// matrix (solve::independent_rows_lu, solve::independent_rows_qr). Beyond, block by block: rows
+// that share no column are independent of each other, so the rank-revealing factorizations run
+// on the connected components of the rows' column graph — for Kirchhoff–Love couplings one small
+// block per triple or interface instead of one dense matrix of all rows × all coordinates (a
+// many-patch part: thousands of rows × 10⁵ coordinates). Full pivoting does not mix components
+// and the rank thresholds are taken relative to the largest pivot of all blocks, as the whole
+// matrix's factorization does, so the rank is the same; among rows that depend on each other the
+// one dropped can differ (a tie decided by round-off), the span of the kept rows cannot.
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "isoflex/math/types.hpp"
+
+namespace isoflex::system {
+
+struct IndependentRows {
+  std::vector<int> rows;  // by full-pivot LU (solve::independent_rows_lu), sorted
+  int rank_qr = 0;        // the rank by column-pivoted QR of Gᵀ (solve::independent_rows_qr)
+};
+
+constexpr double kDenseEntries = 4e6;  // 32 MB as a dense matrix
+
+IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double threshold = 1e-10);
+// The block path alone (tests).
+IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
+                                           double threshold = 1e-10);
+
+}  // namespace isoflex::system

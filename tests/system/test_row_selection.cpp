@@ -1,0 +1,68 @@
+// system::independent_rows (row_selection.hpp): the loop-row selection by connected blocks gives
+// exactly the rows and the QR rank of the dense factorizations of the whole matrix
+// (solve::independent_rows_lu, solve::independent_rows_qr), on matrices of several blocks with
+// dependent rows, a zero row, a block of small entries (the threshold is the whole matrix's) and
+// columns in no block.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/row_selection.hpp"
+#include "support/finite_difference.hpp"
+
+using namespace isoflex;
+
+namespace {
+
+// Blocks of 3 rows over 4 private columns each (row 2 = row 0 + row 1 in every second block),
+// block 1 scaled by `small`, one zero row, and 5 untouched columns; rows shuffled.
+MatX blocky(std::mt19937& g, int blocks, double small) {
+  const int m = 3 * blocks + 1, n = 4 * blocks + 5;
+  MatX G = MatX::Zero(m, n);
+  for (int b = 0; b < blocks; ++b) {
+    const double s = b == 1 ? small : 1.0;
+    for (int i = 0; i < 2; ++i) G.row(3 * b + i).segment(4 * b, 4) = s * test::random_vector(g, 4);
+    G.row(3 * b + 2).segment(4 * b, 4) =
+        b % 2 == 0 ? VecX(G.row(3 * b).segment(4 * b, 4) + G.row(3 * b + 1).segment(4 * b, 4))
+                   : VecX(s * test::random_vector(g, 4));
+  }
+  std::vector<int> order(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::shuffle(order.begin(), order.end(), g);
+  MatX P(m, n);
+  for (int i = 0; i < m; ++i) P.row(i) = G.row(order[static_cast<std::size_t>(i)]);
+  return P;
+}
+
+}  // namespace
+
+// The rank of the selected rows of G.
+int rank_of(const MatX& G, const std::vector<int>& rows) {
+  MatX S(rows.size(), G.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i) S.row(static_cast<int>(i)) = G.row(rows[i]);
+  return static_cast<int>(solve::independent_rows_lu(S).size());
+}
+
+TEST(RowSelection, BlocksGiveTheWholeMatrixSelection) {
+  std::mt19937 g(17);
+  for (double small : {1.0, 1e-6, 1e-12}) {
+    const MatX G = blocky(g, 6, small);
+    const system::IndependentRows r = system::independent_rows_by_blocks(G.sparseView());
+    const std::vector<int> dense = solve::independent_rows_lu(G);
+    EXPECT_EQ(r.rows.size(), dense.size()) << "small " << small;
+    EXPECT_EQ(rank_of(G, r.rows), static_cast<int>(r.rows.size())) << "small " << small;
+    EXPECT_EQ(r.rank_qr, static_cast<int>(solve::independent_rows_qr(G).size()))
+        << "small " << small;
+    // Below the dense limit the dispatch is the dense selection itself.
+    EXPECT_EQ(system::independent_rows(G.sparseView()).rows, dense);
+  }
+  EXPECT_EQ(system::independent_rows_by_blocks(blocky(g, 6, 1.0).sparseView()).rows.size(),
+            6u * 3u - 3u);
+  // Independent rows: the very rows of the dense factorization.
+  MatX F = MatX::Zero(8, 20);
+  for (int i = 0; i < 8; ++i) F.row(i).segment(2 * i, 4) = test::random_vector(g, 4);
+  EXPECT_EQ(system::independent_rows_by_blocks(F.sparseView()).rows, solve::independent_rows_lu(F));
+  EXPECT_TRUE(system::independent_rows(Eigen::SparseMatrix<double>(0, 3)).rows.empty());
+}
