@@ -30,7 +30,8 @@ namespace fs = std::filesystem;
 // the memory (a million points are three million unknowns of a shell).
 constexpr double kMaxSurfacePoints = 1e6;
 constexpr std::initializer_list<const char*> kBuiltinTypes = {
-    "rectangle", "cylinder_sector", "sphere_sector", "hemisphere", "disc"};
+    "rectangle",     "cylinder_sector", "cylinder",   "annulus",
+    "sphere_sector", "spherical_cap",   "hemisphere", "disc"};
 
 double radians(double degrees) {
   return degrees / 180.0 * std::numbers::pi;  // exact for 90, 180, 360 (÷180 first)
@@ -221,13 +222,22 @@ class SurfaceReader : YamlFields {
         check_keys(n, p, {"type", "radius", "length", "angle"});
         const double r = radius();
         const double length = positive(require(n, p, "length"), join(p, "length"));
-        const YAML::Node angle = require(n, p, "angle");
-        const double a = number(angle, join(p, "angle"));
-        if (!(a > 0.0 && a <= 180.0))
-          fail(
-              angle, join(p, "angle"),
-              fmt::format("must be in (0, 180] degrees (one patch spans at most 180°), got {}", a));
-        return geometry::cylinder_sector(r, length, radians(a));
+        return geometry::cylinder_sector(r, length, radians(full_turn_angle(n, p, true)));
+      }
+      if (t == "cylinder") {
+        check_keys(n, p, {"type", "radius", "length"});
+        const double r = radius();
+        return geometry::cylinder(r, positive(require(n, p, "length"), join(p, "length")));
+      }
+      if (t == "annulus") {
+        check_keys(n, p, {"type", "inner_radius", "outer_radius", "angle"});
+        const double inner = positive(require(n, p, "inner_radius"), join(p, "inner_radius"));
+        const YAML::Node outer_node = require(n, p, "outer_radius");
+        const double outer = positive(outer_node, join(p, "outer_radius"));
+        if (!(outer > inner))
+          fail(outer_node, join(p, "outer_radius"),
+               fmt::format("must be > inner_radius = {}, got {}", inner, outer));
+        return geometry::annulus(inner, outer, radians(full_turn_angle(n, p, false)));
       }
       if (t == "sphere_sector") {
         check_keys(n, p, {"type", "radius", "azimuth", "lat_from", "lat_to"});
@@ -249,6 +259,16 @@ class SurfaceReader : YamlFields {
                            lat_to));
         return geometry::sphere_sector(r, radians(az), radians(lat_from), radians(lat_to));
       }
+      if (t == "spherical_cap") {
+        check_keys(n, p, {"type", "radius", "angle"});
+        const double r = radius();
+        const YAML::Node angle = require(n, p, "angle");
+        const double a = number(angle, join(p, "angle"));
+        if (!(a > 0.0 && a < 180.0))
+          fail(angle, join(p, "angle"),
+               fmt::format("must be in (0, 180) degrees (the polar angle of the rim), got {}", a));
+        return geometry::spherical_cap(r, radians(a));
+      }
       if (t == "hemisphere") {
         check_keys(n, p, {"type", "radius"});
         return geometry::hemisphere(radius());
@@ -262,6 +282,16 @@ class SurfaceReader : YamlFields {
     }
     fail(type, join(p, "type"),
          "unknown builtin type \"" + t + "\" (valid: " + list_names(kBuiltinTypes) + ")");
+  }
+
+  // The key `angle` of an arc in degrees, in (0, 360]; required, or 360 when left out.
+  double full_turn_angle(const YAML::Node& n, const std::string& p, bool required) const {
+    const YAML::Node angle = required ? require(n, p, "angle") : n["angle"];
+    if (!angle) return 360.0;
+    const double a = number(angle, join(p, "angle"));
+    if (!(a > 0.0 && a <= 360.0))
+      fail(angle, join(p, "angle"), fmt::format("must be in (0, 360] degrees, got {}", a));
+    return a;
   }
 
   // `refine: {elevate: [tu, tv], knots_per_span: [ku, kv]}`: elevation first, then insertion.
