@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "isoflex/geometry/builders.hpp"
+#include "isoflex/geometry/clamping.hpp"
 #include "isoflex/geometry/refinement.hpp"
 #include "isoflex/io/cad/cad_checks.hpp"
 #include "isoflex/io/cad/cad_reader.hpp"
@@ -83,9 +84,11 @@ class SurfaceReader : YamlFields {
     if (cad && builtin) fail(builtin, join(p, "builtin"), "give either cad or builtin, not both");
     if (!cad && !builtin) fail(n, p, "one of cad and builtin is required");
     CadPatch patch;  // the surface with what the file says about its face (defaults: builtin)
+    std::vector<model::SurfaceFinding> clamping_notes;
     if (cad) {
       s.kind = model::SurfaceSourceKind::cad;
       patch = read_cad_source(cad, join(p, "cad"), s);
+      clamping_notes = clamp(cad, join(p, "cad"), patch.surface);  // before refine (elevation)
     } else {
       s.kind = model::SurfaceSourceKind::builtin;
       patch.surface = read_builtin(builtin, join(p, "builtin"), s);
@@ -99,6 +102,7 @@ class SurfaceReader : YamlFields {
         fail(n, p, fmt::format("the surface cannot be used: {} (fix: {})", f.issue, f.fix));
       s.findings.push_back({to_string(f.severity), f.issue, f.fix});
     }
+    s.findings.insert(s.findings.end(), clamping_notes.begin(), clamping_notes.end());
     s.surface = std::move(patch.surface);
     return s;
   }
@@ -185,6 +189,40 @@ class SurfaceReader : YamlFields {
              fmt::format("patch {} \"{}\" of \"{}\" cannot be used: {} (fix: {})", c.index, c.name,
                          s.cad_file, f.issue, f.fix));
     return c;
+  }
+
+  // A CAD patch whose knot vector is not open in a direction (an unclamped or periodic B-spline:
+  // OCCT writes a periodic surface to STEP and IGES with the knots of its periodic extension) is
+  // clamped there (geometry/clamping.hpp): the same surface and parametrization on the same
+  // domain, with the end knots p+1-fold, as supports on control points, patch coupling and degree
+  // elevation need. Returns an info finding per clamped direction.
+  std::vector<model::SurfaceFinding> clamp(const YAML::Node& n, const std::string& p,
+                                           geometry::NurbsSurface& surface) const {
+    std::vector<model::SurfaceFinding> notes;
+    for (std::size_t d = 0; d < 2; ++d) {
+      const geometry::KnotVector& kv = d == 0 ? surface.u : surface.v;
+      if (kv.is_open()) continue;
+      const int before = kv.n_basis();
+      const int degree = kv.degree();
+      const double a = kv.front(), b = kv.back();
+      try {
+        surface =
+            geometry::clamped(surface, d == 0 ? geometry::Direction::u : geometry::Direction::v);
+      } catch (const std::invalid_argument& e) {
+        fail(n, p,
+             fmt::format("cannot clamp the knot vector in {}: {}", direction_name(d), e.what()));
+      }
+      const int after = (d == 0 ? surface.u : surface.v).n_basis();
+      notes.push_back(
+          {"info",
+           fmt::format("the knot vector in {0} is not open in the file (end knots not repeated {1} "
+                       "times: an unclamped or periodic B-spline); clamped on its domain [{2:g}, "
+                       "{3:g}] by knot insertion, the same surface and parametrization: {4} → {5} "
+                       "control points in {0}",
+                       direction_name(d), degree + 1, a, b, before, after),
+           "nothing to do"});
+    }
+    return notes;
   }
 
   // `builtin: {type: ..., parameters}`; angles in degrees.
