@@ -1,18 +1,19 @@
 // libFuzzer harness: our side of CAD import (issue #15) — a parsed NURBS patch as the CAD reading
 // process hands it over (io::CadPatch, through the pipe's byte format, cad_wire.hpp), the
-// suitability checks (io::check_patch) and the conversion a model file's `refine` applies
-// (degree elevation, knot insertion; io/surface_reader.cpp), on arbitrary degrees, knots,
-// weights and control nets (cad_patch_codec.hpp). OpenCASCADE is not in this process: it runs
+// suitability checks (io::check_patch) and the conversions a model file applies (clamping of knot
+// vectors that are not open, then `refine`: degree elevation, knot insertion;
+// io/surface_reader.cpp), on arbitrary degrees, knots, weights and control nets
+// (cad_patch_codec.hpp). OpenCASCADE is not in this process: it runs
 // in the isolated reading process.
 //
 // Allowed: std::invalid_argument from the places documented to throw it (KnotVector,
-// NurbsSurface::validate, elevate_degree, refine_knots) — the model reader turns those into
-// located errors. A finding is anything else escaping, a crash, a sanitizer report, or one of
+// NurbsSurface::validate, clamped, elevate_degree, refine_knots) — the model reader turns those
+// into located errors. A finding is anything else escaping, a crash, a sanitizer report, or one of
 // the checks below (__builtin_trap):
 //   - the pipe's bytes give the patch back bit for bit;
 //   - every finding says what and how to fix it;
-//   - refinement of a patch the reader accepts gives a valid surface with the same geometry (at
-//     sample parameters, where the numbers are not extreme).
+//   - clamping and refinement of a patch the reader accepts give a valid surface with the same
+//     geometry (at sample parameters, where the numbers are not extreme).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +21,7 @@
 #include <stdexcept>
 
 #include "cad_patch_codec.hpp"
+#include "isoflex/geometry/clamping.hpp"
 #include "isoflex/geometry/refinement.hpp"
 #include "isoflex/io/cad/cad_checks.hpp"
 #include "isoflex/io/cad/cad_wire.hpp"
@@ -110,10 +112,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (f.severity == io::Severity::error) return 0;  // a located error of the model file
   }
 
-  // The model file's `refine`, with the reader's guards (degree, open knots, size).
+  // The model file's clamping (knot vectors that are not open), then its `refine`, with the
+  // reader's guards (degree, open knots, size).
+  geometry::NurbsSurface clamped;
+  try {
+    clamped = geometry::clamped(patch.surface);
+  } catch (const std::invalid_argument&) {
+    return 0;  // the reader's located "cannot clamp the knot vector"
+  }
+  if (!clamped.u.is_open() || !clamped.v.is_open()) __builtin_trap();
   const int elevate[2] = {raw.elevate_u, raw.elevate_v};
   const int per_span[2] = {raw.knots_per_span_u, raw.knots_per_span_v};
-  const geometry::KnotVector* kv[2] = {&patch.surface.u, &patch.surface.v};
+  const geometry::KnotVector* kv[2] = {&clamped.u, &clamped.v};
   double points = 1;
   for (int d = 0; d < 2; ++d) {
     if (elevate[d] > 0 &&
@@ -124,7 +134,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               per_span[d] * static_cast<double>(kv[d]->element_spans().size());
   }
   if (points > 20000) return 0;  // the reader's limit is 1e6; smaller keeps the fuzzer fast
-  geometry::NurbsSurface out = patch.surface;
+  geometry::NurbsSurface out = clamped;
   try {
     for (int d = 0; d < 2; ++d)
       if (elevate[d] > 0)
@@ -154,7 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const io::Finding& f : io::check_patch(refined))
     if (f.issue.empty() || f.fix.empty()) __builtin_trap();
 
-  // The same geometry: refinement is exact.
+  // The same geometry: clamping and refinement are exact.
   if (compare) {
     const double tol = 1e-7 * std::max(scale, 1e-300);
     for (double a : {0.0, 0.31, 0.77, 1.0})

@@ -226,6 +226,72 @@ TEST(SurfaceReader, BuiltinShapesAndRefinement) {
   EXPECT_EQ(skew.findings.size(), 2u);
 }
 
+// The closed shapes: cylinder_sector beyond 180°, cylinder, annulus (angle 360 by default),
+// spherical_cap; their findings name the C⁰ lines between the 90° segments and the pole.
+TEST(SurfaceReader, ClosedBuiltinShapes) {
+  const model::Model m = read_model_string(
+      with_surfaces({
+          "  - name: three_quarters",
+          "    builtin: {type: cylinder_sector, radius: 1, length: 2, angle: 270}",
+          "  - name: tube",
+          "    builtin: {type: cylinder, radius: 1, length: 2}",
+          "  - name: slit_plate",  // Sze et al. 2004: inner radius 6, outer radius 10
+          "    builtin: {type: annulus, inner_radius: 6, outer_radius: 10}",
+          "    refine: {elevate: [0, 1]}",
+          "  - name: quarter_ring",
+          "    builtin: {type: annulus, inner_radius: 1, outer_radius: 3, angle: 90}",
+          "  - name: cap",
+          "    builtin: {type: spherical_cap, radius: 2, angle: 60}",
+      }),
+      "m.yaml");
+  ASSERT_EQ(m.surfaces.size(), 5u);
+  constexpr double pi = std::numbers::pi;
+
+  const model::Surface& tq = m.surfaces[0];
+  EXPECT_EQ(tq.surface.points, geometry::cylinder_sector(1, 2, 1.5 * pi).points);
+  // Unrefined: degree 1 along the axis, and the double knots between the 90° segments.
+  ASSERT_EQ(tq.findings.size(), 2u);
+  EXPECT_NE(tq.findings[0].issue.find("C⁰ lines inside the patch at u = 0.333333, 0.666667"),
+            std::string::npos)
+      << tq.findings[0].issue;
+  EXPECT_NE(tq.findings[1].issue.find("degree 1 in v"), std::string::npos);
+
+  const model::Surface& tube = m.surfaces[1];
+  EXPECT_EQ(tube.builtin_type, "cylinder");
+  EXPECT_EQ(tube.surface.points, geometry::cylinder(1, 2).points);
+  EXPECT_EQ(tube.surface.n_u(), 9);
+  ASSERT_EQ(tube.findings.size(), 2u);
+  EXPECT_NE(tube.findings[0].issue.find("C⁰ lines inside the patch at u = 0.25, 0.5, 0.75"),
+            std::string::npos)
+      << tube.findings[0].issue;
+
+  const model::Surface& plate = m.surfaces[2];
+  EXPECT_EQ(plate.builtin_type, "annulus");
+  const geometry::NurbsSurface ring = geometry::annulus(6, 10, 2 * pi);
+  EXPECT_EQ(plate.surface.degree_v(), 2);
+  EXPECT_LT(max_distance(plate.surface, ring), 1e-14);
+  EXPECT_EQ(plate.surface.points.front(), Vec3(10, 0, 0));  // ξ = 0, η = 0: outer radius on +x
+  EXPECT_EQ(plate.surface.points[plate.surface.index(8, 0)], Vec3(10, 0, 0));  // the slit
+  ASSERT_EQ(plate.findings.size(), 1u);  // elevated in v: only the C⁰ lines in u
+  EXPECT_NE(plate.findings[0].issue.find("at u = 0.25, 0.5, 0.75"), std::string::npos);
+
+  const model::Surface& quarter = m.surfaces[3];
+  EXPECT_EQ(quarter.surface.points, geometry::annulus(1, 3, pi / 2).points);
+  ASSERT_EQ(quarter.findings.size(), 1u);  // linear in v: the degree warning
+  EXPECT_NE(quarter.findings[0].issue.find("degree 1 in v"), std::string::npos);
+
+  const model::Surface& cap = m.surfaces[4];
+  EXPECT_LT(max_distance(cap.surface, geometry::spherical_cap(2, pi / 3)), 1e-15);
+  EXPECT_NEAR(geometry::evaluate(cap.surface, 0.3, 0.0).x.z(), 1.0, 1e-14);  // 2 cos 60°
+  // The azimuth's C⁰ lines and the pole (the meridian of 60° is one segment).
+  ASSERT_EQ(cap.findings.size(), 2u);
+  EXPECT_NE(cap.findings[0].issue.find("C⁰ lines inside the patch at u = 0.25, 0.5, 0.75"),
+            std::string::npos)
+      << cap.findings[0].issue;
+  EXPECT_NE(cap.findings[1].issue.find("collapsed edge at v = 1"), std::string::npos)
+      << cap.findings[1].issue;
+}
+
 TEST(SurfaceReader, Placement) {
   const model::Model m = read_model_string(
       with_surfaces({
@@ -342,18 +408,66 @@ TEST(SurfaceReader, BuiltinErrors) {
   };
   EXPECT_EQ(builtin("{type: cone, radius: 1}"),
             "m.yaml:8: surfaces[0].builtin.type: unknown builtin type \"cone\" (valid: rectangle, "
-            "cylinder_sector, sphere_sector, hemisphere, disc)");
+            "cylinder_sector, cylinder, annulus, sphere_sector, spherical_cap, hemisphere, disc)");
   EXPECT_EQ(builtin("{radius: 1}"), "m.yaml:8: surfaces[0].builtin.type: missing required key");
   EXPECT_EQ(builtin("{type: disc, radius: 1, height: 2}"),
             "m.yaml:8: surfaces[0].builtin.height: unknown key (valid keys: type, radius)");
   EXPECT_EQ(builtin("{type: disc}"), "m.yaml:8: surfaces[0].builtin.radius: missing required key");
   EXPECT_EQ(builtin("{type: hemisphere, radius: -1}"),
             "m.yaml:8: surfaces[0].builtin.radius: must be > 0, got -1");
-  EXPECT_EQ(builtin("{type: cylinder_sector, radius: 1, length: 2, angle: 200}"),
-            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 180] degrees (one patch spans at "
-            "most 180°), got 200");
+  EXPECT_EQ(builtin("{type: cylinder_sector, radius: 1, length: 2, angle: 400}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 360] degrees, got 400");
+  EXPECT_EQ(builtin("{type: cylinder_sector, radius: 1, length: 2, angle: 0}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 360] degrees, got 0");
   EXPECT_EQ(builtin("{type: cylinder_sector, radius: 1, angle: 90}"),
             "m.yaml:8: surfaces[0].builtin.length: missing required key");
+  EXPECT_EQ(builtin("{type: cylinder_sector, radius: 1, length: 2}"),
+            "m.yaml:8: surfaces[0].builtin.angle: missing required key");
+  // cylinder: the full turn, no angle.
+  EXPECT_EQ(builtin("{type: cylinder, radius: 1}"),
+            "m.yaml:8: surfaces[0].builtin.length: missing required key");
+  EXPECT_EQ(builtin("{type: cylinder, length: 1}"),
+            "m.yaml:8: surfaces[0].builtin.radius: missing required key");
+  EXPECT_EQ(builtin("{type: cylinder, radius: 1, length: 2, angle: 90}"),
+            "m.yaml:8: surfaces[0].builtin.angle: unknown key (valid keys: type, radius, length)");
+  EXPECT_EQ(builtin("{type: cylinder, radius: 1, length: -2}"),
+            "m.yaml:8: surfaces[0].builtin.length: must be > 0, got -2");
+  // annulus.
+  EXPECT_EQ(builtin("{type: annulus, outer_radius: 10}"),
+            "m.yaml:8: surfaces[0].builtin.inner_radius: missing required key");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 6}"),
+            "m.yaml:8: surfaces[0].builtin.outer_radius: missing required key");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 0, outer_radius: 10}"),
+            "m.yaml:8: surfaces[0].builtin.inner_radius: must be > 0, got 0");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 6, outer_radius: 6}"),
+            "m.yaml:8: surfaces[0].builtin.outer_radius: must be > inner_radius = 6, got 6");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 6, outer_radius: 10, angle: 361}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 360] degrees, got 361");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 6, outer_radius: 10, angle: -90}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 360] degrees, got -90");
+  EXPECT_EQ(builtin("{type: annulus, inner_radius: 6, outer_radius: 10, radius: 8}"),
+            "m.yaml:8: surfaces[0].builtin.radius: unknown key (valid keys: type, inner_radius, "
+            "outer_radius, angle)");
+  // … located at the key's own line in block style.
+  EXPECT_EQ(error_of(with_surfaces({"  - name: s", "    builtin:", "      type: annulus",
+                                    "      inner_radius: 6", "      outer_radius: 5.5",
+                                    "      angle: 360"})),
+            "m.yaml:11: surfaces[0].builtin.outer_radius: must be > inner_radius = 6, got 5.5");
+  EXPECT_EQ(error_of(with_surfaces({"  - name: s", "    builtin:", "      type: annulus",
+                                    "      inner_radius: 6", "      outer_radius: 10",
+                                    "      angle: .nan"})),
+            "m.yaml:12: surfaces[0].builtin.angle: must be a finite number");
+  // spherical_cap.
+  EXPECT_EQ(builtin("{type: spherical_cap, radius: 1, angle: 180}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 180) degrees (the polar angle of "
+            "the rim), got 180");
+  EXPECT_EQ(builtin("{type: spherical_cap, radius: 1, angle: 0}"),
+            "m.yaml:8: surfaces[0].builtin.angle: must be in (0, 180) degrees (the polar angle of "
+            "the rim), got 0");
+  EXPECT_EQ(builtin("{type: spherical_cap, radius: 1}"),
+            "m.yaml:8: surfaces[0].builtin.angle: missing required key");
+  EXPECT_EQ(builtin("{type: spherical_cap, angle: 30}"),
+            "m.yaml:8: surfaces[0].builtin.radius: missing required key");
   EXPECT_EQ(builtin("{type: sphere_sector, radius: 1, azimuth: 0, lat_from: 0, lat_to: 90}"),
             "m.yaml:8: surfaces[0].builtin.azimuth: must be in (0, 360] degrees, got 0");
   EXPECT_EQ(builtin("{type: sphere_sector, radius: 1, azimuth: 90, lat_from: -100, lat_to: 90}"),
@@ -442,4 +556,27 @@ TEST(SurfaceReader, DocumentationExampleIsValid) {
   EXPECT_EQ(m.surfaces[0].surface.degree_u(), m.surfaces[0].surface.degree_v());
   EXPECT_EQ(m.surfaces[2].builtin_type, "rectangle");
   EXPECT_EQ(m.surfaces[2].surface.points.front(), Vec3(0, 0, 5));
+}
+
+// The example of docs/model-files.md "builtin" reads: the slit annular plate and the cap.
+TEST(SurfaceReader, BuiltinDocumentationExampleIsValid) {
+  const std::string doc = test::read_text(std::string(ISOFLEX_SOURCE_DIR) + "/docs/model-files.md");
+  const auto section = doc.find("### `builtin`");
+  ASSERT_NE(section, std::string::npos);
+  const auto begin = doc.find("```yaml\n", section);
+  ASSERT_LT(begin, doc.find("### `refine`"));
+  const auto end = doc.find("```", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  const std::string yaml =
+      "bodies: [{name: b, mass: 1, inertia: [1, 1, 1], position: [0, 0, 0]}]\n" +
+      doc.substr(begin + 8, end - begin - 8);
+  const model::Model m = read_model_string(yaml, "example.yaml");
+  ASSERT_EQ(m.surfaces.size(), 2u);
+  EXPECT_EQ(m.surfaces[0].builtin_type, "annulus");
+  EXPECT_EQ(m.surfaces[1].builtin_type, "spherical_cap");
+  // The slit plate: 4 × 4 elements in u, 8 in v; the outer radius on +x at both ends of u.
+  const geometry::NurbsSurface& plate = m.surfaces[0].surface;
+  EXPECT_EQ(m.surfaces[0].element_count(), 16 * 8);
+  EXPECT_LT((geometry::evaluate(plate, 0.0, 0.0).x - Vec3(10, 0, 0)).norm(), 1e-14);
+  EXPECT_LT((geometry::evaluate(plate, 1.0, 1.0).x - Vec3(6, 0, 0)).norm(), 1e-14);
 }

@@ -13,6 +13,9 @@ namespace isoflex::geometry {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+// 2π less a relative round-off: an angle this large is a full turn (360° → radians is exact, but a
+// user's 2π may be computed).
+constexpr double kFullTurn = 2.0 * kPi * (1.0 - 1e-15);
 
 void check_positive(double x, const char* what, const char* name) {
   if (!(x > 0.0) || !std::isfinite(x))
@@ -38,6 +41,10 @@ struct Arc2 {
 Arc2 arc2(double radius, double start, double sweep) {
   // Number of segments: the fewest with Δθ ≤ 90° (a small slack so that 90° itself is one).
   const int n_arcs = std::max(1, static_cast<int>(std::ceil(sweep / (kPi / 2.0) - 1e-12)));
+  // A full turn ends where it starts; cos/sin of start + 2π differ from those of start by
+  // round-off, so the closing point is the first one copied: the seam of a closed patch (its
+  // edges ξ = 0 and ξ = 1) then has the same control points, bit for bit.
+  const bool full_turn = sweep >= kFullTurn;
   const double d = sweep / n_arcs;
   const double wm = std::cos(d / 2.0);  // weight of the middle points
   Arc2 a;
@@ -52,7 +59,8 @@ Arc2 arc2(double radius, double start, double sweep) {
     if (s > 0) k.insert(k.end(), 2, static_cast<double>(s) / n_arcs);
   }
   const double t1 = start + sweep;
-  a.points.push_back(radius * Eigen::Vector2d(std::cos(t1), std::sin(t1)));
+  const Eigen::Vector2d end = radius * Eigen::Vector2d(std::cos(t1), std::sin(t1));
+  a.points.push_back(full_turn ? a.points.front() : end);
   a.weights.push_back(1.0);
   k.insert(k.end(), 3, 1.0);
   a.knots = KnotVector(2, k);
@@ -103,7 +111,7 @@ NurbsSurface planar_rectangle(double lx, double ly) {
 NurbsSurface cylinder_sector(double radius, double length, double angle) {
   check_positive(radius, "cylinder_sector", "radius");
   check_positive(length, "cylinder_sector", "length");
-  check_angle(angle, kPi, "cylinder_sector", "angle", "(0, π] (one patch spans at most 180°)");
+  check_angle(angle, 2.0 * kPi, "cylinder_sector", "angle", "(0, 2π]");
   const Arc2 a = arc2(radius, 0.0, angle);
   NurbsSurface s;
   s.u = a.knots;
@@ -111,6 +119,34 @@ NurbsSurface cylinder_sector(double radius, double length, double angle) {
   for (const double z : {0.0, length})
     for (std::size_t i = 0; i < a.points.size(); ++i) {
       s.points.emplace_back(a.points[i].x(), a.points[i].y(), z);
+      s.weights.push_back(a.weights[i]);
+    }
+  return s;
+}
+
+NurbsSurface cylinder(double radius, double length) {
+  return cylinder_sector(radius, length, 2.0 * kPi);
+}
+
+NurbsSurface annulus(double inner_radius, double outer_radius, double angle) {
+  check_positive(inner_radius, "annulus", "inner_radius");
+  check_positive(outer_radius, "annulus", "outer_radius");
+  if (!(inner_radius < outer_radius))
+    throw std::invalid_argument("annulus: inner_radius = " + exact_text(inner_radius) +
+                                " must be smaller than outer_radius = " + exact_text(outer_radius));
+  check_angle(angle, 2.0 * kPi, "annulus", "angle", "(0, 2π]");
+  // The unit arc polygon scaled by each radius: a ruled surface between two concentric arcs of
+  // the same rational parametrization, x(ξ, η) = ((1 − η) r_outer + η r_inner) c(ξ) with c the
+  // exact unit arc (4.10) — linear in η, so degree 1 is exact. η runs inwards so that
+  // S_ξ × S_η = r (r_inner − r_outer) c' × c = r (r_outer − r_inner) e_z points along +z
+  // (c' × c = −e_z for a counter-clockwise c).
+  const Arc2 a = arc2(1.0, 0.0, angle);
+  NurbsSurface s;
+  s.u = a.knots;
+  s.v = KnotVector(1, {0, 0, 1, 1});
+  for (const double r : {outer_radius, inner_radius})
+    for (std::size_t i = 0; i < a.points.size(); ++i) {
+      s.points.emplace_back(r * a.points[i].x(), r * a.points[i].y(), 0.0);
       s.weights.push_back(a.weights[i]);
     }
   return s;
@@ -145,6 +181,15 @@ NurbsSurface sphere_octant(double radius) {
 
 NurbsSurface hemisphere(double radius) {
   return sphere_sector(radius, 2.0 * kPi, 0.0, kPi / 2.0);
+}
+
+NurbsSurface spherical_cap(double radius, double polar_angle) {
+  check_positive(radius, "spherical_cap", "radius");
+  if (!(polar_angle > 0.0 && polar_angle < kPi))
+    throw std::invalid_argument("spherical_cap: polar_angle = " + exact_text(polar_angle) +
+                                " outside (0, π)");
+  // Latitude λ = π/2 − polar angle: from the rim up to the north pole.
+  return sphere_sector(radius, 2.0 * kPi, kPi / 2.0 - polar_angle, kPi / 2.0);
 }
 
 NurbsSurface disc(double radius) {

@@ -5,9 +5,12 @@
 // refinement.hpp. Circular arcs are rational quadratics: one segment per at most 90°, the middle
 // control point on the intersection of the end tangents (distance R / cos(Δθ/2) from the
 // centre) with weight cos(Δθ/2), segments joined by a double knot (geometry C¹/G¹ there, the
-// parametrization C⁰). Surfaces are oriented so that S_ξ × S_η points outward (away from the axis
-// or centre), or along +z for planar ones. All throw std::invalid_argument on non-positive or
-// non-finite sizes and out-of-range angles.
+// parametrization C⁰). Degree elevation keeps that knot p-fold, so a Kirchhoff–Love patch on an
+// arc beyond 90° has a C⁰ line of its basis there, which it treats as a hinge (no bending
+// coupling across it; elements/kl_shell_patch.hpp, docs/theory/kl-shell.md §1). Surfaces are
+// oriented so that S_ξ × S_η points outward (away from the axis or centre), or along +z for
+// planar ones. All throw std::invalid_argument on non-positive or non-finite sizes and
+// out-of-range angles.
 #include "isoflex/geometry/nurbs_curve.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/math/types.hpp"
@@ -26,9 +29,19 @@ NurbsSurface planar_rectangle(const Vec3& corner, const Vec3& edge_u, const Vec3
 NurbsSurface planar_rectangle(double lx, double ly);
 
 // Cylinder sector of radius R about the z axis: ξ runs along the arc from +x through `angle`
-// ∈ (0, π] (one rational quadratic segment up to 90°, two beyond), η along the axis from z = 0 to
-// z = length (degree 1).
+// ∈ (0, 2π] (one rational quadratic segment per started 90°, joined by double knots), η along
+// the axis from z = 0 to z = length (degree 1). For angle = 2π the patch is closed: its edges
+// ξ = 0 and ξ = 1 coincide (the same control points), a seam that is not joined.
 NurbsSurface cylinder_sector(double radius, double length, double angle);
+// The full cylinder, cylinder_sector(radius, length, 2π): 4 segments, a seam at +x.
+NurbsSurface cylinder(double radius, double length);
+
+// Annular sector in the xy-plane about the origin, inner radius r_i < outer radius r_o: ξ along
+// the arc from +x counter-clockwise through `angle` ∈ (0, 2π] (segments as for cylinder_sector),
+// η radially from the outer circle (η = 0) to the inner one (η = 1), degree 1 — inwards, so that
+// S_ξ × S_η points along +z. For angle = 2π the radial edges ξ = 0 and ξ = 1 coincide (a slit
+// annulus while they are not joined).
+NurbsSurface annulus(double inner_radius, double outer_radius, double angle);
 
 // Sphere sector of radius R about the origin, a surface of revolution (tensor product of two
 // arcs, w_ij = w_i w_j): ξ along the azimuth from +x through `azimuth_sweep` ∈ (0, 2π], η along
@@ -39,6 +52,11 @@ NurbsSurface sphere_sector(double radius, double azimuth_sweep, double lat_from,
 NurbsSurface sphere_octant(double radius);
 // The upper hemisphere z ≥ 0 (4 × 1 elements, degenerate at the north pole η = 1).
 NurbsSurface hemisphere(double radius);
+// The cap of the sphere about +z from the pole down to the polar angle `polar_angle` ∈ (0, π),
+// full in azimuth: sphere_sector(R, 2π, π/2 − polar_angle, π/2). ξ along the azimuth from +x, η
+// along the meridian from the rim (η = 0) up to the pole (η = 1, a collapsed edge); one segment
+// per started 90° in each direction. polar_angle = π/2 is the hemisphere.
+NurbsSurface spherical_cap(double radius, double polar_angle);
 
 // The disc of IGA-thesis Fig. 4.3a: radius R about the origin in the xy-plane, one biquadratic
 // element, knots (0,0,0,1,1,1) in both directions, 3 × 3 control points: the corners on the

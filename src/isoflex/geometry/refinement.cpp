@@ -9,38 +9,19 @@
 #include <string>
 #include <utility>
 
+#include "isoflex/geometry/homogeneous_lines.hpp"
 #include "isoflex/math/exact_text.hpp"
 
 namespace isoflex::geometry {
 
 namespace {
 
-// Homogeneous control point (w P, w): in these coordinates a NURBS curve (4.10) is the polynomial
-// B-spline curve (4.6) C^w = Σ N_i P_i^w, and all refinement algorithms are linear in them.
-using Hom = Eigen::Vector4d;
-
-struct HomCurve {
-  KnotVector kv;
-  std::vector<Hom> pw;
-};
-
-Hom to_hom(const Vec3& x, double w) {
-  Hom h;
-  h << w * x, w;
-  return h;
-}
-
-// One row (fixed j, Direction::u) or column (fixed i, Direction::v) of a surface's control net.
-HomCurve surface_line(const NurbsSurface& s, Direction d, int line) {
-  HomCurve c{d == Direction::u ? s.u : s.v, {}};
-  const int n = c.kv.n_basis();
-  c.pw.reserve(n);
-  for (int k = 0; k < n; ++k) {
-    const int idx = d == Direction::u ? s.index(k, line) : s.index(line, k);
-    c.pw.push_back(to_hom(s.points[idx], s.weights[idx]));
-  }
-  return c;
-}
+using detail::apply_lines;
+using detail::from_hom;
+using detail::Hom;
+using detail::HomCurve;
+using detail::insert_once;
+using detail::to_hom;
 
 // Knots to insert must be finite, strictly inside the domain, and may not raise a multiplicity
 // above p (the spline would become discontinuous; for p = 0 multiplicity 1 is the normal case).
@@ -63,34 +44,6 @@ void check_new_knots(const KnotVector& kv, const std::vector<double>& sorted, co
                                   std::to_string(kv.degree()) +
                                   " (the spline would become discontinuous)");
   }
-}
-
-// Boehm's insertion of one knot ū ∈ [U_k, U_{k+1}) (The NURBS Book §5.2):
-//   Q_i = P_i                                  i ≤ k − p,
-//   Q_i = α_i P_i + (1 − α_i) P_{i−1},          α_i = (ū − U_i)/(U_{i+p} − U_i),  k−p < i ≤ k,
-//   Q_i = P_{i−1}                              i > k.
-// For i in (k−p, k] the denominator U_{i+p} − U_i ≥ U_{k+1} − U_k > 0. At an existing knot of
-// multiplicity s the last s factors α_i are 0, which reproduces the copy of P_{i−1}.
-HomCurve insert_once(const HomCurve& c, double u) {
-  const int p = c.kv.degree(), n = c.kv.n_basis();
-  const std::vector<double>& U = c.kv.knots();
-  const int k = c.kv.find_span(u);
-  HomCurve out;
-  out.pw.resize(n + 1);
-  for (int i = 0; i <= n; ++i) {
-    if (i <= k - p) {
-      out.pw[i] = c.pw[i];
-    } else if (i <= k) {
-      const double alpha = (u - U[i]) / (U[i + p] - U[i]);
-      out.pw[i] = alpha * c.pw[i] + (1.0 - alpha) * c.pw[i - 1];
-    } else {
-      out.pw[i] = c.pw[i - 1];
-    }
-  }
-  std::vector<double> knots = U;
-  knots.insert(knots.begin() + k + 1, u);
-  out.kv = KnotVector(p, std::move(knots));
-  return out;
 }
 
 // Knot refinement (The NURBS Book A5.4): inserts the sorted knots X in one sweep from the right.
@@ -275,48 +228,6 @@ void check_elevation(const KnotVector& kv, int t, const char* what) {
       throw std::invalid_argument(std::string(what) + ": interior knot " + exact_text(bp[k]) +
                                   " has multiplicity " + std::to_string(kv.multiplicity(bp[k])) +
                                   " > degree " + std::to_string(kv.degree()));
-}
-
-HomCurve to_hom(const NurbsCurve& c) {
-  HomCurve h{c.knots, {}};
-  h.pw.reserve(c.n());
-  for (int i = 0; i < c.n(); ++i) h.pw.push_back(to_hom(c.points[i], c.weights[i]));
-  return h;
-}
-
-NurbsCurve from_hom(HomCurve&& h) {
-  NurbsCurve c;
-  c.knots = std::move(h.kv);
-  c.points.reserve(h.pw.size());
-  c.weights.reserve(h.pw.size());
-  for (const Hom& q : h.pw) {
-    c.points.push_back(q.head<3>() / q(3));
-    c.weights.push_back(q(3));
-  }
-  return c;
-}
-
-// Applies a curve algorithm in homogeneous coordinates to every row or column of a surface.
-NurbsSurface apply_lines(const NurbsSurface& s, Direction d,
-                         const std::function<HomCurve(const HomCurve&)>& f) {
-  const int n_lines = d == Direction::u ? s.n_v() : s.n_u();
-  NurbsSurface out;
-  out.u = s.u;
-  out.v = s.v;
-  for (int line = 0; line < n_lines; ++line) {
-    HomCurve h = f(surface_line(s, d, line));
-    if (line == 0) {
-      (d == Direction::u ? out.u : out.v) = h.kv;
-      out.points.resize(static_cast<std::size_t>(out.n_u()) * out.n_v());
-      out.weights.resize(out.points.size());
-    }
-    for (int k = 0; k < static_cast<int>(h.pw.size()); ++k) {
-      const int idx = d == Direction::u ? out.index(k, line) : out.index(line, k);
-      out.points[idx] = h.pw[k].head<3>() / h.pw[k](3);
-      out.weights[idx] = h.pw[k](3);
-    }
-  }
-  return out;
 }
 
 const KnotVector& knots_of(const NurbsSurface& s, Direction d) {

@@ -8,7 +8,9 @@
 // fixed j) or column (Direction::v, fixed i) of its control net (tensor product (4.12)).
 //
 // Every function validates its input surface/curve and throws std::invalid_argument with the
-// offending value for anything that would not give a valid spline of the same shape.
+// offending value for anything that would not give a valid spline of the same shape. Knot vectors
+// that are not open (unclamped, periodic) become open ones with clamping.hpp; the algorithms in
+// homogeneous coordinates are shared through homogeneous_lines.hpp.
 #include <vector>
 
 #include "isoflex/geometry/knot_vector.hpp"

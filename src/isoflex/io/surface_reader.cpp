@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "isoflex/geometry/builders.hpp"
+#include "isoflex/geometry/clamping.hpp"
 #include "isoflex/geometry/refinement.hpp"
 #include "isoflex/io/cad/cad_checks.hpp"
 #include "isoflex/io/cad/cad_reader.hpp"
@@ -30,7 +31,8 @@ namespace fs = std::filesystem;
 // the memory (a million points are three million unknowns of a shell).
 constexpr double kMaxSurfacePoints = 1e6;
 constexpr std::initializer_list<const char*> kBuiltinTypes = {
-    "rectangle", "cylinder_sector", "sphere_sector", "hemisphere", "disc"};
+    "rectangle",     "cylinder_sector", "cylinder",   "annulus",
+    "sphere_sector", "spherical_cap",   "hemisphere", "disc"};
 
 double radians(double degrees) {
   return degrees / 180.0 * std::numbers::pi;  // exact for 90, 180, 360 (÷180 first)
@@ -82,9 +84,11 @@ class SurfaceReader : YamlFields {
     if (cad && builtin) fail(builtin, join(p, "builtin"), "give either cad or builtin, not both");
     if (!cad && !builtin) fail(n, p, "one of cad and builtin is required");
     CadPatch patch;  // the surface with what the file says about its face (defaults: builtin)
+    std::vector<model::SurfaceFinding> clamping_notes;
     if (cad) {
       s.kind = model::SurfaceSourceKind::cad;
       patch = read_cad_source(cad, join(p, "cad"), s);
+      clamping_notes = clamp(cad, join(p, "cad"), patch.surface);  // before refine (elevation)
     } else {
       s.kind = model::SurfaceSourceKind::builtin;
       patch.surface = read_builtin(builtin, join(p, "builtin"), s);
@@ -98,6 +102,7 @@ class SurfaceReader : YamlFields {
         fail(n, p, fmt::format("the surface cannot be used: {} (fix: {})", f.issue, f.fix));
       s.findings.push_back({to_string(f.severity), f.issue, f.fix});
     }
+    s.findings.insert(s.findings.end(), clamping_notes.begin(), clamping_notes.end());
     s.surface = std::move(patch.surface);
     return s;
   }
@@ -186,6 +191,40 @@ class SurfaceReader : YamlFields {
     return c;
   }
 
+  // A CAD patch whose knot vector is not open in a direction (an unclamped or periodic B-spline:
+  // OCCT writes a periodic surface to STEP and IGES with the knots of its periodic extension) is
+  // clamped there (geometry/clamping.hpp): the same surface and parametrization on the same
+  // domain, with the end knots p+1-fold, as supports on control points, patch coupling and degree
+  // elevation need. Returns an info finding per clamped direction.
+  std::vector<model::SurfaceFinding> clamp(const YAML::Node& n, const std::string& p,
+                                           geometry::NurbsSurface& surface) const {
+    std::vector<model::SurfaceFinding> notes;
+    for (std::size_t d = 0; d < 2; ++d) {
+      const geometry::KnotVector& kv = d == 0 ? surface.u : surface.v;
+      if (kv.is_open()) continue;
+      const int before = kv.n_basis();
+      const int degree = kv.degree();
+      const double a = kv.front(), b = kv.back();
+      try {
+        surface =
+            geometry::clamped(surface, d == 0 ? geometry::Direction::u : geometry::Direction::v);
+      } catch (const std::invalid_argument& e) {
+        fail(n, p,
+             fmt::format("cannot clamp the knot vector in {}: {}", direction_name(d), e.what()));
+      }
+      const int after = (d == 0 ? surface.u : surface.v).n_basis();
+      notes.push_back(
+          {"info",
+           fmt::format("the knot vector in {0} is not open in the file (end knots not repeated {1} "
+                       "times: an unclamped or periodic B-spline); clamped on its domain [{2:g}, "
+                       "{3:g}] by knot insertion, the same surface and parametrization: {4} → {5} "
+                       "control points in {0}",
+                       direction_name(d), degree + 1, a, b, before, after),
+           "nothing to do"});
+    }
+    return notes;
+  }
+
   // `builtin: {type: ..., parameters}`; angles in degrees.
   geometry::NurbsSurface read_builtin(const YAML::Node& n, const std::string& p,
                                       model::Surface& s) {
@@ -221,13 +260,22 @@ class SurfaceReader : YamlFields {
         check_keys(n, p, {"type", "radius", "length", "angle"});
         const double r = radius();
         const double length = positive(require(n, p, "length"), join(p, "length"));
-        const YAML::Node angle = require(n, p, "angle");
-        const double a = number(angle, join(p, "angle"));
-        if (!(a > 0.0 && a <= 180.0))
-          fail(
-              angle, join(p, "angle"),
-              fmt::format("must be in (0, 180] degrees (one patch spans at most 180°), got {}", a));
-        return geometry::cylinder_sector(r, length, radians(a));
+        return geometry::cylinder_sector(r, length, radians(full_turn_angle(n, p, true)));
+      }
+      if (t == "cylinder") {
+        check_keys(n, p, {"type", "radius", "length"});
+        const double r = radius();
+        return geometry::cylinder(r, positive(require(n, p, "length"), join(p, "length")));
+      }
+      if (t == "annulus") {
+        check_keys(n, p, {"type", "inner_radius", "outer_radius", "angle"});
+        const double inner = positive(require(n, p, "inner_radius"), join(p, "inner_radius"));
+        const YAML::Node outer_node = require(n, p, "outer_radius");
+        const double outer = positive(outer_node, join(p, "outer_radius"));
+        if (!(outer > inner))
+          fail(outer_node, join(p, "outer_radius"),
+               fmt::format("must be > inner_radius = {}, got {}", inner, outer));
+        return geometry::annulus(inner, outer, radians(full_turn_angle(n, p, false)));
       }
       if (t == "sphere_sector") {
         check_keys(n, p, {"type", "radius", "azimuth", "lat_from", "lat_to"});
@@ -249,6 +297,16 @@ class SurfaceReader : YamlFields {
                            lat_to));
         return geometry::sphere_sector(r, radians(az), radians(lat_from), radians(lat_to));
       }
+      if (t == "spherical_cap") {
+        check_keys(n, p, {"type", "radius", "angle"});
+        const double r = radius();
+        const YAML::Node angle = require(n, p, "angle");
+        const double a = number(angle, join(p, "angle"));
+        if (!(a > 0.0 && a < 180.0))
+          fail(angle, join(p, "angle"),
+               fmt::format("must be in (0, 180) degrees (the polar angle of the rim), got {}", a));
+        return geometry::spherical_cap(r, radians(a));
+      }
       if (t == "hemisphere") {
         check_keys(n, p, {"type", "radius"});
         return geometry::hemisphere(radius());
@@ -262,6 +320,16 @@ class SurfaceReader : YamlFields {
     }
     fail(type, join(p, "type"),
          "unknown builtin type \"" + t + "\" (valid: " + list_names(kBuiltinTypes) + ")");
+  }
+
+  // The key `angle` of an arc in degrees, in (0, 360]; required, or 360 when left out.
+  double full_turn_angle(const YAML::Node& n, const std::string& p, bool required) const {
+    const YAML::Node angle = required ? require(n, p, "angle") : n["angle"];
+    if (!angle) return 360.0;
+    const double a = number(angle, join(p, "angle"));
+    if (!(a > 0.0 && a <= 360.0))
+      fail(angle, join(p, "angle"), fmt::format("must be in (0, 360] degrees, got {}", a));
+    return a;
   }
 
   // `refine: {elevate: [tu, tv], knots_per_span: [ku, kv]}`: elevation first, then insertion.

@@ -244,7 +244,8 @@ struct Surface {
   std::string cad_patch_name;
   bool trimmed = false;               // trimming ignored: `surface` is the untrimmed patch
   bool reversed_orientation = false;  // the face's normal is −(x_u × x_v)
-  // builtin: rectangle, cylinder_sector, sphere_sector, hemisphere or disc.
+  // builtin: rectangle, cylinder_sector, cylinder, annulus, sphere_sector, spherical_cap,
+  // hemisphere or disc.
   std::string builtin_type;
   SurfaceRefinement refine;
   // Placement x ↦ origin + orientation · x, applied after refinement (identity by default).

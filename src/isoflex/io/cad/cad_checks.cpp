@@ -38,16 +38,18 @@ void check_direction(const geometry::KnotVector& kv, const char* dir, std::vecto
                    fmt::format("elevate the degree in {} to 2 or more (degree elevation in the "
                                "model file; exact, the geometry does not change)",
                                dir)});
+  // Only a note: the model reader clamps such a patch exactly (geometry/clamping.hpp) before
+  // anything else uses it, so that the boundary passes through the boundary control points.
   if (!kv.is_open())
-    out.push_back({Severity::warning,
+    out.push_back({Severity::info,
                    fmt::format("the knot vector in {} is not open (end knots not repeated {} "
-                               "times): the patch boundary does not pass through the boundary "
-                               "control points, so boundary conditions and patch coupling on "
-                               "control points are not exact",
+                               "times: an unclamped or periodic B-spline, whose boundary does not "
+                               "pass through the boundary control points)",
                                dir, p + 1),
-                   fmt::format("re-export the surface clamped (open knot vectors), or insert the "
-                               "end knots of {} until they are {}-fold",
-                               dir, p + 1)});
+                   fmt::format("nothing to do: a model file's surface clamps it exactly (knot "
+                               "insertion at the ends of the domain [{:g}, {:g}] in {}; the same "
+                               "surface and parametrization)",
+                               kv.front(), kv.back(), dir)});
 
   std::vector<double> c0, broken;
   for (double b : kv.breakpoints()) {

@@ -23,10 +23,11 @@ struct Finding {
 };
 
 // In this order: trimmed face (the trimming is ignored), degree < 2 per direction (not enough for
-// Kirchhoff–Love shells), knot vectors that are not open, C⁰ (multiplicity ≥ degree) and
-// discontinuous (multiplicity > degree) lines inside the patch, collapsed edges, reversed face
-// orientation (left-handed parameter domain), non-positive weights, converted analytic surfaces.
-// An empty list means the patch is fit for a Kirchhoff–Love shell as it is.
+// Kirchhoff–Love shells), knot vectors that are not open (info: the model reader clamps them),
+// C⁰ (multiplicity ≥ degree) and discontinuous (multiplicity > degree) lines inside the patch,
+// collapsed edges, reversed face orientation (left-handed parameter domain), non-positive
+// weights, converted analytic surfaces. An empty list means the patch is fit for a
+// Kirchhoff–Love shell as it is; so does a list of infos only.
 std::vector<Finding> check_patch(const CadPatch& patch);
 
 }  // namespace isoflex::io
