@@ -134,6 +134,9 @@ struct Box {
   bool overlaps(const Box& o) const {
     return (lo.array() <= o.hi.array()).all() && (o.lo.array() <= hi.array()).all();
   }
+  bool contains(const Vec3& x) const {
+    return (lo.array() <= x.array()).all() && (x.array() <= hi.array()).all();
+  }
 };
 
 // The edge pairs that coincide as curves. Throws for an edge that lies along part of another.
@@ -164,7 +167,13 @@ std::vector<EdgePair> coincident_edges(const std::vector<NurbsSurface>& s,
             continue;
           }
           // Not the same ends: an edge that runs along part of the other is a T-junction or a
-          // non-matching subdivision, which the couplings cannot join.
+          // non-matching subdivision, which the couplings cannot join. An edge curve lies in the
+          // box of its control points (convex hull, positive weights): edges that only touch,
+          // as at the corners of a grid of patches, fail that cheap test before any projection.
+          const Box box_a(ra, tol), box_b(rb, tol);
+          if (!(box_b.contains(ra.front()) && box_b.contains(ra.back())) &&
+              !(box_a.contains(rb.front()) && box_a.contains(rb.back())))
+            continue;
           const bool a_in_b = on_edge(s[b], eb, ra.front(), tol) &&
                               on_edge(s[b], eb, ra.back(), tol) && along_other(s[a], ea, s[b], eb);
           const bool b_in_a = on_edge(s[a], ea, rb.front(), tol) &&
