@@ -38,15 +38,12 @@ bool has_follower_loads(const system::System& sys) {
 // conditions (IGA-thesis Alg. 5.1, (5.35)), a mask over the m selected rows.
 // The count stays that of the reference: off the constraint manifold the strip's stress adds
 // rank (geometric stiffness) that the constraints do not have.
-std::vector<bool> dropped_rows(const system::System& sys, const SpMat& G) {
-  std::vector<bool> out(static_cast<std::size_t>(G.rows()), false);
+std::vector<bool> dropped_rows(const system::System& sys, const VecX& q) {
+  std::vector<bool> out(static_cast<std::size_t>(sys.m_selected()), false);
   for (const auto& g : sys.reselected_groups()) {
-    system::Triplets pick;
-    for (std::size_t i = 0; i < g.positions.size(); ++i)
-      pick.emplace_back(static_cast<int>(i), g.positions[i], 1.0);
-    SpMat S(static_cast<int>(g.positions.size()), G.rows());
-    S.setFromTriplets(pick.begin(), pick.end());
-    const MatX Gr = MatX(sys.modulo_linear_conditions(SpMat(S * G)));
+    std::vector<int> rows;
+    for (int p : g.positions) rows.push_back(sys.selected_rows()[static_cast<std::size_t>(p)]);
+    const MatX Gr = MatX(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
     for (int p : g.positions) out[static_cast<std::size_t>(p)] = true;
     for (int i : solve::leading_rows_lu(Gr, g.rank))
       out[static_cast<std::size_t>(g.positions[static_cast<std::size_t>(i)])] = false;
@@ -80,7 +77,7 @@ void evaluate(const system::System& sys, RowSelection& selection, const VecX& x,
   const VecX f = sys.static_force(q, t, with_tangent ? &K : nullptr, &load_norm);
   const VecX lambda = x.tail(m);
   SpMat G = sys.jacobian(q);
-  if (!(selection.t == t)) selection = {t, dropped_rows(sys, G)};
+  if (!(selection.t == t)) selection = {t, dropped_rows(sys, q)};
   const std::vector<bool>& dropped = selection.dropped;
   VecX lambda_kept = lambda;
   if (!sys.reselected_groups().empty()) {

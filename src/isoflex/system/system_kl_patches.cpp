@@ -105,8 +105,8 @@ void System::add_kl_patches(const model::Model& m) {
 // - strip_constraints (AF-BS, §5.1): the forces of that strip with β = 1 as constraint rows
 //   (5.5b), f_s = K_s (x − X) in a linear analysis, whose redundant rows (Conjecture 5.1, the
 //   clamped boundary) are dropped with the other loop rows by full-pivot LU (Alg. 5.1); in a
-//   nonlinear static analysis the strip's nonlinear forces (StripForceRows), selected at every
-//   Newton iterate;
+//   nonlinear static analysis the strip's nonlinear forces (StripForceRows), chosen again at the
+//   start of every load step (integrate/static_equilibrium.cpp);
 // - perturbed_lagrange (§5.1.3.2): those rows perturbed, ŝ f_s − (ŝ/α₁) λ = 0 (5.24b) with
 //   α₁ = beta; all kept (the compliance makes the Newton matrix regular). Eliminating λ = α₁ f_s
 //   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1);
