@@ -316,7 +316,7 @@ TEST(ModelReader, UnknownKey) {
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, scaling, dt, t_end, residual_tolerance, increment_tolerance, max_iterations, "
-      "max_subdivisions, linear, initial_equilibrium)");
+      "max_subdivisions, linear, initial_equilibrium, path_following)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -1013,4 +1013,46 @@ TEST(ModelReader, DampingFactorsOfBeamsAndShells) {
             "m.yaml:6: beams[0].section.eta: the damping factor η must be >= 0 (seconds)");
   EXPECT_EQ(error_of(shell + "-0.1}\n"),
             "m.yaml:4: shells[0].material.eta: the damping factor η must be >= 0 (seconds)");
+}
+
+TEST(ModelReader, PathFollowing) {
+  const model::Model m = read_model_string(
+      with_bodies({"probes: [{name: tip, body: top, point: [1, 0, 0]}]", "solver:",
+                   "  analysis: static",
+                   "  path_following: {method: displacement, probe: tip, direction: [0, 0, -2], "
+                   "displacement: 3}"}),
+      "m.yaml");
+  EXPECT_EQ(m.solver.path.method, model::PathMethod::displacement);
+  EXPECT_EQ(m.solver.path.probe, "tip");
+  EXPECT_EQ(m.solver.path.direction, Vec3(0, 0, -1));
+  EXPECT_EQ(m.solver.path.displacement, 3.0);
+  EXPECT_EQ(m.solver.path.line, 9);
+  const model::Model a = read_model_string(
+      with_bodies({"solver:", "  analysis: static",
+                   "  path_following: {method: arc_length, arc_length: 0.5, max_arc_length: 2, "
+                   "load_weight: 1, target_iterations: 4, max_steps: 50}"}),
+      "m.yaml");
+  EXPECT_EQ(a.solver.path.method, model::PathMethod::arc_length);
+  EXPECT_EQ(a.solver.path.arc_length, 0.5);
+  EXPECT_EQ(a.solver.path.max_arc_length, 2.0);
+  EXPECT_EQ(a.solver.path.load_weight, 1.0);
+  EXPECT_EQ(a.solver.path.target_iterations, 4);
+  EXPECT_EQ(a.solver.path.max_steps, 50);
+
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  path_following: {method: riks}"})),
+            "m.yaml:7: solver.path_following.method: unknown method \"riks\" (valid: arc_length, "
+            "displacement)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  path_following: {method: arc_length, probe: p}"})),
+            "m.yaml:7: solver.path_following.probe: not used with method arc_length");
+  EXPECT_EQ(
+      error_of(with_bodies({"solver:", "  path_following: {method: displacement, probe: nope, "
+                                       "displacement: 1}"})),
+      "m.yaml:7: solver.path_following.probe: no probe named \"nope\" (give it under probes)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  linear: true",
+                                  "  path_following: {method: arc_length}"})),
+            "m.yaml:8: solver.path_following.method: path following needs a nonlinear analysis "
+            "(remove solver.linear)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  path_following: {method: displacement, probe: p, "
+                                             "displacement: 1, direction: [0, 0, 0]}"})),
+            "m.yaml:7: solver.path_following.direction: must not be zero");
 }

@@ -83,6 +83,13 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
       return std::nullopt;
     }
     if (o && o->statics) s.analysis = model::Analysis::statics;
+    if (s.path.method != model::PathMethod::load && s.analysis != model::Analysis::statics) {
+      fmt::print(err,
+                 "error: {}:{}: solver.path_following: path following is for a static analysis "
+                 "(analysis: static, or run --static)\n",
+                 file, s.path.line);
+      return std::nullopt;
+    }
     // With --dt or --t-end the step count is checked again (the file's own values were checked
     // by the reader, with their line).
     if (o && (o->dt || o->t_end)) {
@@ -226,8 +233,24 @@ void print_kl_interfaces(const system::System& sys, std::FILE* out) {
 void print_static_check(const system::System& sys, const model::Solver& solver, std::FILE* out) {
   const integrate::StaticEquilibrium eq(sys, solver);
   const integrate::StaticSettings& s = eq.settings();
-  fmt::print(out, "analysis         static, {} load steps to t = {:g}{}\n", s.steps, s.t_end,
-             s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
+  const integrate::PathSettings& p = s.path;
+  if (p.control == integrate::PathControl::arc_length)
+    fmt::print(out,
+               "analysis         static, arc length (first step {}, load weight {:g}, at most {} "
+               "steps) until the load factor reaches {:g}\n",
+               p.arc_length > 0 ? fmt::format("{:g}", p.arc_length)
+                                : fmt::format("that of load factor {:g}", s.t_end / s.steps),
+               p.load_weight, p.max_steps, s.t_end);
+  else if (p.control == integrate::PathControl::displacement)
+    fmt::print(out,
+               "analysis         static, displacement control of probe {} along ({:g}, {:g}, "
+               "{:g}) to {:g} in {} steps{}\n",
+               solver.path.probe, solver.path.direction.x(), solver.path.direction.y(),
+               solver.path.direction.z(), p.displacement, s.steps,
+               s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
+  else
+    fmt::print(out, "analysis         static, {} load steps to t = {:g}{}\n", s.steps, s.t_end,
+               s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
   fmt::print(out, "eliminated       {}  (fixed coordinates)\n", eq.eliminated());
   fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges)\n",
              eq.multipliers());
@@ -473,10 +496,12 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.energy_initial = snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
   std::optional<RunOutputs> outputs;
+  double path = 0.0;  // the path parameter of the last load step (path following)
   // After every step (time step or accepted load step): the summary's figures, the outputs, and
   // the end of the run if a signal came.
   const auto record = [&](const integrate::StepStats& st) {
-    const integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
+    integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
+    next.path = path;
     // Checked before anything of the step is recorded: the outputs end with the last finite step.
     if (const std::string bad = non_finite_results(next, state); !bad.empty())
       throw integrate::NewtonFailure(fmt::format("{} {} (t = {:.6g}): non-finite results: {}",
@@ -524,15 +549,21 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       linear = m.solver.linear ? "linear" : "nonlinear";
       doing =
           fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
-      equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
+      const integrate::StaticResult result =
+          equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
         state.q = x.head(sys.n());
         state.t = st.t;
         state.step = st.step;
+        path = st.path;
         doing = fmt::format("while recording load step {}", sum.steps + 1);
         record({st.iterations, st.residual, st.cuts + 1});
         doing = fmt::format("in load step {} (assembling and factorizing {} unknowns)",
                             sum.steps + 1, sum.n_unknowns);
       });
+      if (!result.stopped.empty()) {
+        sum.message = result.stopped;
+        fmt::print(err, "warning: {}\n", result.stopped);
+      }
     } else {
       doing = "while setting up the time stepping";
       integ = integrate::make_time_integrator(sys, m.solver);

@@ -7,11 +7,28 @@
 
 namespace isoflex::app {
 
+namespace {
+// history.csv's path column of a static run with path following (io/history_writer.hpp).
+std::string path_column(const model::Model& m) {
+  if (m.solver.analysis != model::Analysis::statics) return {};
+  switch (m.solver.path.method) {
+    case model::PathMethod::arc_length:
+      return "arc_length";
+    case model::PathMethod::displacement:
+      return "control_displacement";
+    case model::PathMethod::load:
+      break;
+  }
+  return {};
+}
+}  // namespace
+
 RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
                        std::FILE* progress) {
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv (docs/model-files.md)
     observers_.push_back(
-        std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m)));
+        std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m),
+                                            path_column(m)));
     observers_.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
   }

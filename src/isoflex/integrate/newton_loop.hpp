@@ -40,6 +40,9 @@ struct NewtonOptions {
   // (‖R_k‖ ≈ ‖R_{k−1}‖ (‖R_{k−1}‖/‖R_{k−2}‖)² below the tolerance); if the prediction fails it is
   // evaluated at the same iterate, so the iterates do not change.
   bool predict_last_matrix = false;
+  // Corrections applied before the residual test may end the iteration (a bordered step whose
+  // extra equation the start does not satisfy: displacement control).
+  int min_corrections = 0;
 };
 
 struct NewtonOutcome {
@@ -61,6 +64,9 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
                           Correct&& correct, std::vector<double>* history = nullptr) {
   NewtonOutcome out;
   double first_scale = 0.0, r_prev = 0.0, r_prev2 = 0.0;
+  // Growth is measured from the first residual (after the min_corrections, whose start may be
+  // converged already).
+  const auto divergence_base = [&] { return std::max(out.first_residual, 1e-300); };
   auto evaluate = [&](bool with_matrix, int it, bool record) {
     try {
       const VecX R = residual(with_matrix);
@@ -85,14 +91,16 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     const VecX R = evaluate(with_matrix, it, true);
     if (!out.reason.empty()) return out;
     out.scale = scale();
-    if (it == 0) {
+    if (it == opt.min_corrections) {
       out.first_residual = out.residual;
       first_scale = out.scale;
     }
     const bool diverged =
-        !std::isfinite(out.residual) || out.residual > 1e6 * std::max(out.first_residual, 1e-300);
+        !std::isfinite(out.residual) ||
+        (it >= opt.min_corrections && out.residual > 1e6 * divergence_base());
     if (diverged && (opt.stop_when_diverging || !std::isfinite(out.residual))) break;
-    if (out.residual <= opt.residual_tolerance * out.scale || out.residual == 0.0) {
+    if (it >= opt.min_corrections &&
+        (out.residual <= opt.residual_tolerance * out.scale || out.residual == 0.0)) {
       out.converged = true;
       return out;
     }
@@ -122,7 +130,7 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
       return out;
     }
   }
-  if (!std::isfinite(out.residual) || out.residual > 1e6 * std::max(out.first_residual, 1e-300)) {
+  if (!std::isfinite(out.residual) || out.residual > 1e6 * divergence_base()) {
     out.reason =
         fmt::format("Newton diverged: the residual grew from {:.3e} to {:.3e} in {} iterations",
                     out.first_residual, out.residual, out.iterations);

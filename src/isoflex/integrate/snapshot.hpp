@@ -69,6 +69,9 @@ struct Snapshot {
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints
   int newton_iterations = 0;             // of this step (0 for the initial state)
   double residual = 0.0;                 // final Newton residual norm of this step
+  // Static path following: the arc length from the start or the control displacement
+  // (LoadStepStats::path); 0 otherwise.
+  double path = 0.0;
   // Every node: the bodies in model order, then the beam nodes, then the shell nodes (position φ,
   // directors (d₁, d₂, d) with d the shell director).
   std::vector<BodyPose> bodies;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 
 #include "isoflex/solve/linear_solver.hpp"
@@ -21,6 +22,29 @@ StaticSettings static_settings(const model::Solver& s) {
   out.max_iterations = s.max_iterations;
   out.residual_tolerance = s.residual_tolerance;
   out.increment_tolerance = s.increment_tolerance;
+  const model::PathFollowing& f = s.path;
+  out.path.control = f.method == model::PathMethod::arc_length     ? PathControl::arc_length
+                     : f.method == model::PathMethod::displacement ? PathControl::displacement
+                                                                   : PathControl::load;
+  out.path.arc_length = f.arc_length;
+  out.path.max_arc_length = f.max_arc_length;
+  out.path.load_weight = f.load_weight;
+  out.path.target_iterations = f.target_iterations;
+  out.path.max_steps = f.max_steps;
+  out.path.displacement = f.displacement;
+  return out;
+}
+
+StaticSettings static_settings(const model::Solver& s, const system::System& sys) {
+  StaticSettings out = static_settings(s);
+  if (out.path.control != PathControl::displacement) return out;
+  const auto& probes = sys.probes();
+  const auto it = std::find_if(probes.begin(), probes.end(),
+                               [&](const system::ProbeInstance& p) { return p.name == s.path.probe; });
+  if (it == probes.end())
+    throw std::invalid_argument("solver.path_following.probe: no probe named \"" + s.path.probe +
+                                "\"");
+  out.path.control_vector = sys.probe_gradient(*it, s.path.direction);
   return out;
 }
 
@@ -51,13 +75,15 @@ std::vector<bool> dropped_rows(const system::System& sys, const VecX& q) {
   return out;
 }
 
-// The rows dropped in the current load step: chosen at its first evaluation (the start of its
-// Newton iteration) and kept for the step, so that the equations do not change between
-// iterations (a selection in every iteration switches rows back and forth off the manifold and
-// stalls Newton, as the thesis warns after (5.34)).
+// The rows dropped in the current load step: chosen at the start of its Newton iteration
+// (StaticProblem::begin_step; for a bare evaluation, at the first one at a new t) and kept for the
+// step, so that the equations do not change between iterations (a selection in every iteration
+// switches rows back and forth off the manifold and stalls Newton, as the thesis warns after
+// (5.34)). A path-following step evaluates at many t: its selection is pinned to the step.
 struct RowSelection {
   double t = std::numeric_limits<double>::quiet_NaN();
   std::vector<bool> dropped;
+  bool pinned = false;
 };
 
 // R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale. The
@@ -77,7 +103,7 @@ void evaluate(const system::System& sys, RowSelection& selection, const VecX& x,
   const VecX f = sys.static_force(q, t, with_tangent ? &K : nullptr, &load_norm);
   const VecX lambda = x.tail(m);
   SpMat G = sys.jacobian(q);
-  if (!(selection.t == t)) selection = {t, dropped_rows(sys, q)};
+  if (!selection.pinned && !(selection.t == t)) selection = {t, dropped_rows(sys, q), false};
   const std::vector<bool>& dropped = selection.dropped;
   VecX lambda_kept = lambda;
   if (!sys.reselected_groups().empty()) {
@@ -130,6 +156,10 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   pb.linear = linear && !(patches_only && follower);
   const system::System* S = &sys;
   auto selection = std::make_shared<RowSelection>();
+  if (!sys.reselected_groups().empty())
+    pb.begin_step = [S, selection](const VecX& x, double t) {
+      *selection = {t, dropped_rows(*S, x.head(S->n())), true};
+    };
   if (!linear || patches_only) {
     pb.evaluate = [S, selection](const VecX& x, double t, bool with_tangent,
                                  ResidualEvaluation& out) {
@@ -162,7 +192,7 @@ StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Sol
     : sys_(sys),
       linear_(settings.linear),
       problem_(static_problem(sys, settings.linear)),
-      solver_(problem_, over_unknowns(sys), static_settings(settings)) {}
+      solver_(problem_, over_unknowns(sys), static_settings(settings, sys)) {}
 
 int StaticEquilibrium::unknowns() const {
   return solver_.dofs().n_free() + multipliers();

@@ -17,7 +17,8 @@
 //
 // Settings from model::Solver: load increment dt up to t_end (nominal levels k·dt); a failing
 // increment is halved, at most max_subdivisions times, and after easy steps the increment grows
-// back onto the nominal levels (static_newton.hpp); max_iterations and the tolerances. The
+// back onto the nominal levels (static_newton.hpp); max_iterations and the tolerances; path
+// following (arc length, displacement control of a probe; static_newton.hpp). The
 // convergence scale is the size of the forces that balance: max(‖f_ext‖∞, ‖Gᵀλ‖∞, the reactions
 // of the linear conditions). `linear`: the geometrically linear problem, R linearized at the
 // unloaded reference (q₀, 0), one solve per load step; a patch with linear kinematics
@@ -34,6 +35,9 @@ namespace isoflex::integrate {
 
 // The load-stepping settings of a model's solver entry.
 StaticSettings static_settings(const model::Solver& s);
+// The same with the control vector of displacement control: the gradient of the probe's
+// displacement along the direction (System::probe_gradient).
+StaticSettings static_settings(const model::Solver& s, const system::System& sys);
 
 // R(x, t) and J of the header for a System, x = (q, λ_sel).
 StaticProblem static_problem(const system::System& sys, bool linear);

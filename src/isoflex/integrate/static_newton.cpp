@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
+#include "isoflex/integrate/arc_length.hpp"
 #include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
@@ -136,15 +138,26 @@ struct StaticNewtonSolver::Impl {
   // The single place where the Newton matrix is factorized (to be swapped for another solver).
   // Symmetric without multipliers: supernodal Cholesky (CHOLMOD), 3.8× faster than Eigen's
   // simplicial LDLᵀ at 5·10³ unknowns and 8.8× at 3·10⁴ (bench/kl_shell.md, solvers).
-  VecX linear_solve(const SpMat& M, const VecX& b) {
+  VecX linear_solve(const SpMat& M, const VecX& b) { return factorize_and_solve<VecX>(M, b); }
+  MatX linear_solve_columns(const SpMat& M, const MatX& B) {
+    return factorize_and_solve<MatX>(M, B);
+  }
+  template <class Rhs>
+  Rhs factorize_and_solve(const SpMat& M, const Rhs& b) {
+    const auto with = [&](auto& solver) -> Rhs {
+      if constexpr (std::is_same_v<Rhs, MatX>)
+        return solver.solve_columns(M, b);
+      else
+        return solver.solve(M, b);
+    };
     if (problem.symmetric && m == 0) {
       try {
-        return cholesky.solve(M, b);
+        return with(cholesky);
       } catch (const std::runtime_error&) {
         // Not positive definite (past a limit point, or a singular direction): pivoted LU.
       }
     }
-    return lu.solve(M, b);
+    return with(lu);
   }
 
   void evaluate(const VecX& x, double t, bool with_tangent, LoadStepStats& st) {
@@ -178,6 +191,7 @@ struct StaticNewtonSolver::Impl {
   // Newton at the load parameter t from (x, μ); x's eliminated dofs are set here.
   NewtonOutcome newton(VecX& x, VecX& mu, double t, LoadStepStats& st) {
     set_prescribed(x, t);
+    if (problem.begin_step) problem.begin_step(x, t);
     const double xscale =
         std::max({inf_norm(configuration(x)), inf_norm(configuration(problem.reference)), 1e-300});
     NewtonOptions opt;
@@ -213,6 +227,146 @@ struct StaticNewtonSolver::Impl {
         },
         &st.residual_history);
   }
+
+  // --- Path following (header) -------------------------------------------------------------
+  VecX control;            // c on the Newton unknowns z = (free dofs, μ) (displacement control)
+  double path_scale = 0.0;  // ‖∂R/∂λ‖∞ t_end at the reference: the least convergence scale
+
+  // The free configuration entries of x (the first nf_configuration unknowns of z).
+  VecX free_configuration(const VecX& x) const {
+    VecX u(nf_configuration);
+    for (int k = 0; k < nf_configuration; ++k) u(k) = x(dofs.free[static_cast<std::size_t>(k)]);
+    return u;
+  }
+
+  // x and μ moved by δz (free dofs and multipliers).
+  void add_to_unknowns(VecX& x, VecX& mu, const VecX& dz) const {
+    for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
+    if (m > 0) mu += dz.tail(m);
+  }
+
+  // z(x, μ) − z(x₀, μ₀).
+  VecX unknowns_difference(const VecX& x, const VecX& mu, const VecX& x0, const VecX& mu0) const {
+    VecX dz(nf + m);
+    for (int k = 0; k < nf; ++k) {
+      const int i = dofs.free[static_cast<std::size_t>(k)];
+      dz(k) = x(i) - x0(i);
+    }
+    if (m > 0) dz.tail(m) = mu - mu0;
+    return dz;
+  }
+
+  // ∂R/∂λ at (x, μ, λ) by a central difference, the prescribed entries of x following λ; leaves
+  // the Newton matrix as it is.
+  VecX load_derivative(const VecX& x, const VecX& mu, double lambda, LoadStepStats& st) {
+    const double h = 1e-6 * std::max(std::abs(lambda), std::abs(settings.t_end));
+    VecX xh = x;
+    double s = 0.0;
+    set_prescribed(xh, lambda + h);
+    evaluate(xh, lambda + h, false, st);
+    const VecX Rp = reduced_residual(xh, mu, lambda + h, s);
+    set_prescribed(xh, lambda - h);
+    evaluate(xh, lambda - h, false, st);
+    return (Rp - reduced_residual(xh, mu, lambda - h, s)) / (2.0 * h);
+  }
+
+  // Newton on (x, μ, λ) with one more equation, by bordering (header); pick(δz_R, δz_λ)
+  // returns δλ.
+  template <class Pick>
+  NewtonOutcome newton_bordered(VecX& x, VecX& mu, double& lambda, LoadStepStats& st,
+                                int min_corrections, Pick&& pick) {
+    set_prescribed(x, lambda);
+    if (problem.begin_step) problem.begin_step(x, lambda);
+    const double xscale =
+        std::max({inf_norm(configuration(x)), inf_norm(configuration(problem.reference)), 1e-300});
+    NewtonOptions opt;
+    opt.max_iterations = settings.max_iterations;
+    opt.residual_tolerance = settings.residual_tolerance;
+    opt.stop_when_diverging = true;
+    opt.predict_last_matrix = true;
+    opt.min_corrections = min_corrections;
+    double scale = 0.0;
+    VecX dR;
+    return newton_loop(
+        opt,
+        [&](bool with_matrix) {
+          set_prescribed(x, lambda);
+          evaluate(x, lambda, with_matrix, st);
+          VecX R = reduced_residual(x, mu, lambda, scale);
+          scale = std::max(scale, path_scale);
+          if (with_matrix) dR = load_derivative(x, mu, lambda, st);
+          return R;
+        },
+        [&] { return scale; },
+        [&](const VecX& R) {
+          const auto t0 = Clock::now();
+          MatX B(nf + m, 2);
+          B.col(0) = -R;
+          B.col(1) = -dR;
+          MatX D;
+          try {
+            D = linear_solve_columns(A, B);
+          } catch (...) {
+            st.solve_seconds += seconds_since(t0);
+            throw;
+          }
+          st.solve_seconds += seconds_since(t0);
+          const double dl = pick(VecX(D.col(0)), VecX(D.col(1)));
+          const VecX dz = D.col(0) + dl * D.col(1);
+          add_to_unknowns(x, mu, dz);
+          lambda += dl;
+          return inf_norm(dz.head(nf_configuration)) <=
+                     settings.increment_tolerance * std::max(xscale, inf_norm(configuration(x))) &&
+                 std::abs(dl) <= settings.increment_tolerance *
+                                     std::max(std::abs(lambda), std::abs(settings.t_end));
+        },
+        &st.residual_history);
+  }
+
+  // Displacement control: c·(x − X) = target after the correction (linear in δλ).
+  NewtonOutcome newton_displacement(VecX& x, VecX& mu, double& lambda, double target,
+                                    LoadStepStats& st) {
+    // The start is the last equilibrium, off the new control value: one correction at least.
+    return newton_bordered(x, mu, lambda, st, 1, [&](const VecX& dzR, const VecX& dzl) {
+      const double g = control_value(x) - target;
+      const double slope = control.dot(dzl);
+      if (!(std::abs(slope) > 0.0))
+        throw std::runtime_error(
+            "displacement control: the controlled displacement does not respond to the load");
+      return -(g + control.dot(dzR)) / slope;
+    });
+  }
+
+  double control_value(const VecX& x) const {
+    double u = 0.0;
+    for (const auto& [i, c] : settings.path.control_vector) u += c * (x(i) - problem.reference(i));
+    return u;
+  }
+
+  // ‖∂R/∂λ‖∞ t_end at (x, μ) (the reference): the size of the full load.
+  double reference_load_scale(const VecX& x, const VecX& mu) {
+    LoadStepStats st;
+    return inf_norm(load_derivative(x, mu, 0.0, st).head(nf)) * std::abs(settings.t_end);
+  }
+
+  // The times of failed attempts, added to the step that is accepted next.
+  struct Carried {
+    double wall = 0.0, assembly = 0.0, solve = 0.0;
+    void add(const LoadStepStats& st) {
+      wall += st.wall_seconds;
+      assembly += st.assembly_seconds;
+      solve += st.solve_seconds;
+    }
+    void take(LoadStepStats& st) {
+      st.wall_seconds += wall;
+      st.assembly_seconds += assembly;
+      st.solve_seconds += solve;
+      *this = {};
+    }
+  };
+
+  StaticResult solve_stepped(const StaticObserver& observer);
+  StaticResult solve_arc_length(const StaticObserver& observer);
 };
 
 StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints constraints,
@@ -278,6 +432,33 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
       throw std::invalid_argument(fmt::format(
           "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
     }
+  const PathSettings& p = s.path;
+  if (p.control == PathControl::load) return;
+  if (I.problem.linear)
+    throw std::invalid_argument(
+        "StaticNewtonSolver: path following (arc length, displacement control) needs a "
+        "nonlinear analysis");
+  if (!(p.arc_length >= 0.0) || !std::isfinite(p.arc_length) || !(p.max_arc_length >= 0.0) ||
+      !std::isfinite(p.max_arc_length) || !(p.load_weight >= 0.0) ||
+      !std::isfinite(p.load_weight) || p.target_iterations < 1 || p.max_steps < 1 ||
+      !std::isfinite(p.displacement))
+    throw std::invalid_argument(fmt::format(
+        "StaticNewtonSolver: bad path settings (arc length {}, load weight {}, target iterations "
+        "{}, max steps {}, displacement {})",
+        p.arc_length, p.load_weight, p.target_iterations, p.max_steps, p.displacement));
+  if (p.control != PathControl::displacement) return;
+  I.control = VecX::Zero(I.nf + I.m);
+  for (const auto& [i, c] : p.control_vector) {
+    if (i < 0 || i >= I.n)
+      throw std::invalid_argument(
+          fmt::format("StaticNewtonSolver: control vector entry {} outside 0..{}", i, I.n - 1));
+    const int fi = I.dofs.full_to_free[static_cast<std::size_t>(i)];
+    if (fi >= 0) I.control(fi) += c;
+  }
+  if (I.control.lpNorm<Eigen::Infinity>() == 0.0)
+    throw std::invalid_argument(
+        "StaticNewtonSolver: the controlled displacement acts on eliminated (supported) "
+        "coordinates only");
 }
 
 StaticNewtonSolver::~StaticNewtonSolver() = default;
@@ -292,17 +473,27 @@ const StaticSettings& StaticNewtonSolver::settings() const {
 }
 
 StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
-  Impl& I = *impl_;
-  const StaticSettings& s = I.settings;
+  return impl_->settings.path.control == PathControl::arc_length
+             ? impl_->solve_arc_length(observer)
+             : impl_->solve_stepped(observer);
+}
+
+// Load control and displacement control: the nominal levels t = t_end k / steps, halved on
+// failure (adaptive).
+StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& observer) {
+  const StaticSettings& s = settings;
+  const bool displacement = s.path.control == PathControl::displacement;
   StaticResult res;
-  VecX x = I.problem.reference;
-  VecX mu = VecX::Zero(I.m);
-  I.set_prescribed(x, 0.0);
+  VecX x = problem.reference;
+  VecX mu = VecX::Zero(m);
+  double lambda = 0.0;  // displacement control: the load factor reached
+  set_prescribed(x, 0.0);
+  if (displacement) path_scale = reference_load_scale(x, mu);
   const double dt_nominal = s.t_end / s.steps;
   double t = 0.0, dt = dt_nominal;
   int cuts = 0, easy = 0;
-  double carried_wall = 0.0, carried_asm = 0.0, carried_solve = 0.0;
-  const int analyses0 = I.cholesky.analyses() + I.lu.analyses();
+  Carried carried;
+  const int analyses0 = cholesky.analyses() + lu.analyses();
   while (t < s.t_end) {
     double dt_try = std::min(dt, s.t_end - t);
     if (dt < dt_nominal) {
@@ -321,22 +512,31 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
     LoadStepStats st;
     st.step = static_cast<int>(res.steps.size()) + 1;
     VecX x_try = x, mu_try = mu;
+    double lambda_try = lambda;
+    const double target = s.path.displacement * t_try / s.t_end;
     const auto t0 = Clock::now();
-    const NewtonOutcome out = I.newton(x_try, mu_try, t_try, st);
+    const NewtonOutcome out = displacement
+                                  ? newton_displacement(x_try, mu_try, lambda_try, target, st)
+                                  : newton(x_try, mu_try, t_try, st);
     st.wall_seconds = seconds_since(t0);
     if (!out.converged) {
-      carried_wall += st.wall_seconds;
-      carried_asm += st.assembly_seconds;
-      carried_solve += st.solve_seconds;
+      carried.add(st);
       // The increment is never cut below dt_nominal / 2^max_cuts (near a limit point it would
       // otherwise shrink without bound).
       const int depth = static_cast<int>(std::lround(std::log2(dt_nominal / dt_try)));
       if (!s.adaptive || depth >= s.max_cuts) {
+        const std::string halvings =
+            cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string();
         throw NewtonFailure(failure_message(
-            fmt::format("static load stepping: load step {} did not converge at load factor {:.6g} "
-                        "(load factor reached {:.6g}, increment {:.3g}{})",
-                        st.step, t_try, t, dt_try,
-                        cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string()),
+            displacement
+                ? fmt::format("static displacement control: step {} did not converge at control "
+                              "displacement {:.6g} (load factor reached {:.6g} at control "
+                              "displacement {:.6g}, increment {:.3g}{})",
+                              st.step, target, lambda, s.path.displacement * t / s.t_end,
+                              s.path.displacement * dt_try / s.t_end, halvings)
+                : fmt::format("static load stepping: load step {} did not converge at load "
+                              "factor {:.6g} (load factor reached {:.6g}, increment {:.3g}{})",
+                              st.step, t_try, t, dt_try, halvings),
             out, s.residual_tolerance));
       }
       dt = 0.5 * dt_try;
@@ -344,17 +544,16 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
       easy = 0;
       continue;
     }
-    st.t = t_try;
-    st.dt = dt_try;
+    st.t = displacement ? lambda_try : t_try;
+    st.path = displacement ? control_value(x_try) : t_try;
+    st.dt = displacement ? lambda_try - lambda : dt_try;
     st.iterations = out.iterations;
     st.residual = out.residual;
     st.cuts = cuts;
-    st.wall_seconds += carried_wall;
-    st.assembly_seconds += carried_asm;
-    st.solve_seconds += carried_solve;
-    carried_wall = carried_asm = carried_solve = 0.0;
+    carried.take(st);
     cuts = 0;
     t = t_try;
+    lambda = lambda_try;
     x = std::move(x_try);
     mu = std::move(mu_try);
     if (s.adaptive) {
@@ -372,7 +571,116 @@ StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
   }
   res.x = std::move(x);
   res.mu = std::move(mu);
-  res.analyses = I.cholesky.analyses() + I.lu.analyses() - analyses0;
+  res.analyses = cholesky.analyses() + lu.analyses() - analyses0;
+  return res;
+}
+
+// Arc length (header): from the reference along the path until λ reaches t_end.
+StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& observer) {
+  const StaticSettings& s = settings;
+  const PathSettings& p = s.path;
+  StaticResult res;
+  VecX x = problem.reference;
+  VecX mu = VecX::Zero(m);
+  double lambda = 0.0;
+  set_prescribed(x, 0.0);
+  // The tangent at the reference, δz_λ = −A⁻¹ ∂R/∂λ: the first predictor.
+  LoadStepStats st0;
+  evaluate(x, 0.0, true, st0);
+  VecX dz_prev = linear_solve(A, VecX(-load_derivative(x, mu, 0.0, st0)));
+  path_scale = reference_load_scale(x, mu);
+  double dlam_prev = 1.0;
+  const double w = p.load_weight * p.load_weight * dz_prev.head(nf_configuration).squaredNorm();
+  const auto length = [&](const VecX& dz, double dlam) {
+    return std::sqrt(dz.head(nf_configuration).squaredNorm() + w * dlam * dlam);
+  };
+  const double dl0 = p.arc_length > 0.0 ? p.arc_length : s.t_end / s.steps * length(dz_prev, 1.0);
+  if (!(dl0 > 0.0) || !std::isfinite(dl0))
+    throw NewtonFailure(fmt::format(
+        "static arc length: the tangent at the reference has no length ({:.3g}): the loads do not "
+        "move the free coordinates",
+        dl0));
+  const double dl_min = dl0 / std::ldexp(1.0, s.max_cuts);
+  const double dl_max = p.max_arc_length > 0.0 ? std::max(p.max_arc_length, dl0) : 10.0 * dl0;
+  double dl = dl0, arc = 0.0;
+  int cuts = 0;
+  Carried carried;
+  const int analyses0 = cholesky.analyses() + lu.analyses();
+  while (lambda < s.t_end) {
+    if (static_cast<int>(res.steps.size()) >= p.max_steps) {
+      res.stopped = fmt::format(
+          "arc length: stopped after {} steps at load factor {:.6g} (t_end {:.6g} not reached)",
+          p.max_steps, lambda, s.t_end);
+      break;
+    }
+    LoadStepStats st;
+    st.step = static_cast<int>(res.steps.size()) + 1;
+    // Predictor: the last increment (or the tangent) scaled to the arc length.
+    const double f = dl / length(dz_prev, dlam_prev);
+    VecX x_try = x, mu_try = mu;
+    add_to_unknowns(x_try, mu_try, f * dz_prev);
+    double lambda_try = lambda + f * dlam_prev;
+    const auto t0 = Clock::now();
+    NewtonOutcome out =
+        newton_bordered(x_try, mu_try, lambda_try, st, 0, [&](const VecX& dzR, const VecX& dzl) {
+          const VecX dz = unknowns_difference(x_try, mu_try, x, mu);
+          return arc_length_correction(dz.head(nf_configuration), lambda_try - lambda,
+                                       dzR.head(nf_configuration), dzl.head(nf_configuration), w,
+                                       dl);
+        });
+    bool last = false;
+    if (out.converged && lambda_try >= s.t_end) {
+      // λ = t_end exactly: load control from the secant between the two points around it.
+      const double a = (s.t_end - lambda) / (lambda_try - lambda);
+      VecX x_end = x + a * (x_try - x), mu_end = mu + a * (mu_try - mu);
+      const NewtonOutcome end = newton(x_end, mu_end, s.t_end, st);
+      if (end.converged) {
+        x_try = std::move(x_end);
+        mu_try = std::move(mu_end);
+        lambda_try = s.t_end;
+        out.iterations += end.iterations;
+        out.residual = end.residual;
+      }
+      last = true;
+    }
+    st.wall_seconds = seconds_since(t0);
+    if (!out.converged) {
+      carried.add(st);
+      if (0.5 * dl < dl_min * (1.0 - 1e-12))
+        throw NewtonFailure(failure_message(
+            fmt::format("static arc length: step {} did not converge with arc length {:.3g} "
+                        "(load factor reached {:.6g}, path length {:.6g}{})",
+                        st.step, dl, lambda, arc,
+                        cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string()),
+            out, s.residual_tolerance));
+      dl *= 0.5;
+      ++cuts;
+      continue;
+    }
+    dz_prev = unknowns_difference(x_try, mu_try, x, mu);
+    dlam_prev = lambda_try - lambda;
+    arc += length(dz_prev, dlam_prev);
+    st.t = lambda_try;
+    st.dt = dlam_prev;
+    st.path = arc;
+    st.iterations = out.iterations;
+    st.residual = out.residual;
+    st.cuts = cuts;
+    carried.take(st);
+    cuts = 0;
+    x = std::move(x_try);
+    mu = std::move(mu_try);
+    lambda = lambda_try;
+    res.steps.push_back(std::move(st));
+    if (observer) observer(res.steps.back(), x);
+    if (last) break;
+    const double growth = std::sqrt(static_cast<double>(p.target_iterations) /
+                                    std::max(1, res.steps.back().iterations));
+    dl = std::min(dl * std::clamp(growth, 0.5, 2.0), dl_max);
+  }
+  res.x = std::move(x);
+  res.mu = std::move(mu);
+  res.analyses = cholesky.analyses() + lu.analyses() - analyses0;
   return res;
 }
 

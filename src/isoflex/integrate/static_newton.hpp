@@ -26,10 +26,32 @@
 // load step, the load factor tried and the one reached, the iterations and the residual reached; a
 // residual that grew by six orders of magnitude (or overflowed) is reported as diverged, with the
 // scale at the start of the step.
+//
+// Path following (PathSettings, docs/theory/path-following.md): past a limit point the load
+// factor cannot be prescribed. The load parameter then becomes an unknown λ (the loads, the
+// prescribed values and the rows' right-hand sides are evaluated at t = λ) and each step adds one
+// equation, solved by bordering with the factorization of A (two right-hand sides):
+//     A [δz_R  δz_λ] = −[R  ∂R/∂λ],   δz = δz_R + δλ δz_λ,
+// ∂R/∂λ by a central difference in λ (exact to round-off for loads affine in t). The equation:
+//   • displacement control: c·(x − X) = ū t/t_end at the nominal levels t (a point's displacement
+//     along a direction, ū at t_end), δλ linear; the levels, halvings and growth as above;
+//   • arc length (Crisfield 1981): ‖Δu‖² + ψ² s Δλ² = Δl² per step, Δu the increment of the free
+//     configuration entries, s = ‖δu_λ‖² of the first step (ψ = 0: the cylindrical arc length);
+//     δλ the root of the quadratic whose increment turns least (Crisfield's angle criterion);
+//     predictor: the tangent in the first step, then the secant of the last increment scaled to
+//     Δl, which follows the path around limit points; Δl scaled by √(target/iterations) after
+//     every step (within ½…2 per step and Δl₀/2^max_cuts … max_arc_length), halved after a
+//     failure. It
+//     ends where λ first reaches t_end (that step is redone at λ = t_end exactly, by load control
+//     from the secant between the two points around it) or after max_steps steps.
+// The convergence scale of a path step is at least ‖∂R/∂λ‖∞ t_end at the reference (forces of
+// the full load), so that equilibria at a small load factor on the path are converged as
+// accurately as the others.
 #include <Eigen/SparseCore>
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -56,6 +78,9 @@ struct StaticProblem {
   bool symmetric = true;
   // r is affine in x (linear kinematics, dead loads): one solve per load step, no iteration.
   bool linear = false;
+  // Called at the start of every step's Newton iteration with its start x and load parameter
+  // (a provider that chooses equations per step chooses them here); optional.
+  std::function<void(const VecX& x, double t)> begin_step;
   // The leading entries of x that are configuration (the rest: multipliers of the problem's own
   // constraint rows, in force units); the correction test measures those only. −1: all of x.
   int configuration_size = -1;
@@ -63,6 +88,23 @@ struct StaticProblem {
 
 using system::DofMap;
 using system::LinearConstraints;
+
+enum class PathControl { load, displacement, arc_length };
+
+struct PathSettings {
+  PathControl control = PathControl::load;
+  // displacement: the control c·(x − X) = displacement · t / t_end (entries of c by index of x)
+  std::vector<std::pair<int, double>> control_vector;
+  double displacement = 0.0;
+  // arc length: Δl of the first step (0: the length of the tangent predictor over the first
+  // nominal load increment t_end / steps), the load weight ψ, the Newton iterations a step aims
+  // at, and the most steps
+  double arc_length = 0.0;
+  double max_arc_length = 0.0;  // the longest step (0: 10 Δl₀)
+  double load_weight = 0.0;
+  int target_iterations = 6;
+  int max_steps = 1000;
+};
 
 struct StaticSettings {
   double t_end = 1.0;
@@ -77,11 +119,15 @@ struct StaticSettings {
   double residual_tolerance = 1e-10;
   double increment_tolerance = 1e-12;
   double force_floor = 0.0;  // lower bound of the residual scale (in force units)
+  PathSettings path;
 };
 
 struct LoadStepStats {
   int step = 0;                          // 1, 2, … (accepted steps)
-  double t = 0.0;                        // load parameter reached
+  double t = 0.0;                        // load parameter reached (the load factor λ)
+  // The path parameter: t under load control, the control displacement c·(x − X), the arc length
+  // from the start (the sum of the steps' Δl).
+  double path = 0.0;
   double dt = 0.0;                       // its increment
   int iterations = 0;                    // Newton corrections
   int cuts = 0;                          // failed attempts (halvings) before this step was accepted
@@ -97,6 +143,8 @@ struct StaticResult {
   VecX mu;  // multipliers (size m)
   std::vector<LoadStepStats> steps;
   int analyses = 0;  // symbolic analyses of the sparse factorization
+  // Why an arc-length run ended before λ reached t_end (max_steps), else empty.
+  std::string stopped;
 };
 
 // Called after every accepted load step with its statistics (step, t, iterations, …) and x.
@@ -105,7 +153,8 @@ using StaticObserver = std::function<void(const LoadStepStats&, const VecX&)>;
 class StaticNewtonSolver {
  public:
   // Throws std::invalid_argument for inconsistent sizes, bad settings (steps < 1, t_end not
-  // finite, tolerances < 0) or a multiplier row that acts on eliminated dofs only.
+  // finite, tolerances < 0, path following of a linear problem, a control vector out of range or
+  // on eliminated entries only) or a multiplier row that acts on eliminated dofs only.
   StaticNewtonSolver(StaticProblem problem, LinearConstraints constraints, StaticSettings settings);
   ~StaticNewtonSolver();
   StaticNewtonSolver(StaticNewtonSolver&&) noexcept;

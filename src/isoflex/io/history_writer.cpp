@@ -87,11 +87,14 @@ void CsvFile::flush() {
   pending_.clear();
 }
 
-HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy)
+HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
+                             const std::string& path_column)
     : file_(outdir / "history.csv",
-            dissipated_energy ? (std::string(kHistoryHeader) + ",dissipated_energy").c_str()
-                              : kHistoryHeader),
-      dissipated_(dissipated_energy) {}
+            (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
+             (path_column.empty() ? "" : "," + path_column))
+                .c_str()),
+      dissipated_(dissipated_energy),
+      path_(!path_column.empty()) {}
 
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;
@@ -103,6 +106,7 @@ void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
                  L.x(), L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
   if (dissipated_)
     fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.dissipated_energy);
+  if (path_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.path);
   file_.pending() += '\n';
   file_.flush();
 }

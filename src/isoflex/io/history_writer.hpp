@@ -2,8 +2,11 @@
 // Time histories as CSV, one row per snapshot, numbers with 17 significant digits, written after
 // every snapshot so that a running or interrupted simulation can be inspected.
 //   history.csv: t,kinetic_energy,potential_energy,total_energy,px,py,pz,Lx,Ly,Lz,
-//                constraint_violation,newton_iterations,residual[,dissipated_energy]
-//                (the last column for a model with material damping, model::has_material_damping)
+//                constraint_violation,newton_iterations,residual[,dissipated_energy][,path]
+//                (dissipated_energy for a model with material damping,
+//                model::has_material_damping; the path column of a static run with path
+//                following, named arc_length or control_displacement: Snapshot::path; t is the
+//                load factor of a static run)
 //   probes.csv:  t,probe,x,y,z,ux,uy,uz,vx,vy,vz (one row per probe and snapshot)
 //   resultants.csv: t,beam,element,n1,n2,n3,m1,m2,m3 (one row per beam element and snapshot;
 //                stress resultants in director components, DNSM-III (69))
@@ -53,13 +56,16 @@ class CsvFile {
 // Writes outdir/history.csv.
 class HistoryWriter : public integrate::Observer {
  public:
-  HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy);
+  // path_column: the name of the path-parameter column, empty for none.
+  HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
+                const std::string& path_column = {});
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
  private:
   CsvFile file_;
   bool dissipated_ = false;
+  bool path_ = false;
 };
 
 // Writes outdir/probes.csv; creates no file (and ignores all snapshots) when the model has no

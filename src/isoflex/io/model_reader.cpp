@@ -141,6 +141,7 @@ class Reader : YamlFields {
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i), m, kl));
+    check_path_probe(root["solver"], m);
     m.shell_supports = shells.supports(root["shell_supports"], m.shells);
     for (auto& j :
          shells.connections(root["shell_connections"], m.shells, [&](const std::string& name) {
@@ -169,7 +170,7 @@ class Reader : YamlFields {
     check_keys(n, "solver",
                {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
                 "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
-                "linear", "initial_equilibrium"});
+                "linear", "initial_equilibrium", "path_following"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -225,11 +226,74 @@ class Reader : YamlFields {
       if (s.initial_equilibrium > 10000)
         fail(v, "solver.initial_equilibrium", "at most 10000 load steps");
     }
+    if (const auto v = n["path_following"]) read_path_following(v, s);
     // The step count of the file's own dt and t_end (command-line overrides: app load()).
     if (const std::string problem = model::step_count_problem(s); !problem.empty()) {
       if (const auto v = n["t_end"]) fail(v, "solver.t_end", problem);
       fail(n["dt"], "solver.dt", problem);  // the default t_end: dt is the one given
     }
+  }
+
+  void read_path_following(const YAML::Node& n, model::Solver& s) const {
+    const std::string p = "solver.path_following";
+    expect_map(n, p);
+    check_keys(n, p,
+               {"method", "arc_length", "max_arc_length", "load_weight", "target_iterations",
+                "max_steps", "probe", "direction", "displacement"});
+    model::PathFollowing& f = s.path;
+    const YAML::Node method = require(n, p, "method");
+    const std::string name = string(method, join(p, "method"));
+    if (name == "arc_length")
+      f.method = model::PathMethod::arc_length;
+    else if (name == "displacement")
+      f.method = model::PathMethod::displacement;
+    else
+      fail(method, join(p, "method"),
+           "unknown method \"" + name + "\" (valid: arc_length, displacement)");
+    f.line = line_of(n);
+    if (s.linear)
+      fail(method, join(p, "method"),
+           "path following needs a nonlinear analysis (remove solver.linear)");
+    const bool arc = f.method == model::PathMethod::arc_length;
+    const auto only = [&](const char* key, bool allowed) {
+      if (n[key] && !allowed)
+        fail(n[key], join(p, key),
+             fmt::format("not used with method {}", arc ? "arc_length" : "displacement"));
+    };
+    for (const char* key :
+         {"arc_length", "max_arc_length", "load_weight", "target_iterations", "max_steps"})
+      only(key, arc);
+    for (const char* key : {"probe", "direction", "displacement"}) only(key, !arc);
+    if (const auto v = n["arc_length"]) f.arc_length = positive(v, join(p, "arc_length"));
+    if (const auto v = n["max_arc_length"])
+      f.max_arc_length = positive(v, join(p, "max_arc_length"));
+    if (const auto v = n["load_weight"]) {
+      f.load_weight = number(v, join(p, "load_weight"));
+      if (!(f.load_weight >= 0.0)) fail(v, join(p, "load_weight"), "must be >= 0");
+    }
+    if (const auto v = n["target_iterations"])
+      f.target_iterations = integer(v, join(p, "target_iterations"), 1);
+    if (const auto v = n["max_steps"]) {
+      f.max_steps = integer(v, join(p, "max_steps"), 1);
+      if (f.max_steps > model::kMaxSteps) fail(v, join(p, "max_steps"), "at most 1e8 steps");
+    }
+    if (arc) return;
+    f.probe = string(require(n, p, "probe"), join(p, "probe"));
+    f.displacement = number(require(n, p, "displacement"), join(p, "displacement"));
+    if (const auto v = n["direction"]) {
+      const Vec3 d = vec3(v, join(p, "direction"));
+      if (!(d.norm() > 0.0)) fail(v, join(p, "direction"), "must not be zero");
+      f.direction = d.normalized();
+    }
+  }
+
+  // The probe of displacement control is one of the model's probes.
+  void check_path_probe(const YAML::Node& solver, const Model& m) const {
+    if (m.solver.path.method != model::PathMethod::displacement) return;
+    if (std::none_of(m.probes.begin(), m.probes.end(),
+                     [&](const model::Probe& p) { return p.name == m.solver.path.probe; }))
+      fail(solver["path_following"]["probe"], "solver.path_following.probe",
+           "no probe named \"" + m.solver.path.probe + "\" (give it under probes)");
   }
 
   void read_output(const YAML::Node& n, model::Output& o) const {

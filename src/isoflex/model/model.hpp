@@ -350,6 +350,26 @@ enum class Integrator { energy_momentum, generalized_alpha, bdf1, bdf2 };
 // t ∈ [0, t_end] (`run --static` overrides the model).
 enum class Analysis { dynamic, statics };
 
+// Path following of a nonlinear static analysis (integrate/static_newton.hpp): the load factor
+// becomes an unknown. `arc_length`: Crisfield's arc length, from a first step of length
+// `arc_length` (0: the length of the first load increment dt's tangent predictor) until the load
+// factor reaches t_end or after max_steps steps; `displacement`: the displacement of `probe`
+// along `direction` is prescribed, `displacement` at t_end, in load steps of dt.
+enum class PathMethod { load, arc_length, displacement };
+
+struct PathFollowing {
+  PathMethod method = PathMethod::load;
+  double arc_length = 0.0;
+  double max_arc_length = 0.0;  // the longest step (0: 10 × the first)
+  double load_weight = 0.0;     // ψ: the weight of the load factor in the arc length
+  int target_iterations = 6;
+  int max_steps = 1000;
+  std::string probe;
+  Vec3 direction = Vec3::UnitZ();  // unit
+  double displacement = 0.0;
+  int line = 0;  // of the path_following entry in the model file
+};
+
 struct Solver {
   Analysis analysis = Analysis::dynamic;
   Formulation formulation = Formulation::reparametrized;
@@ -369,6 +389,7 @@ struct Solver {
   // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
   // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
   int initial_equilibrium = 0;
+  PathFollowing path;  // static analyses only
 };
 
 struct Output {

@@ -52,8 +52,8 @@ bool use_long(IndexWidth width, const SpMat& A) {
 }
 
 // Numeric LU of A (pattern analysed already) and the solution of A x = b.
-template <class Matrix>
-VecX factorize_and_solve(UmfPack<Matrix>& lu, const Matrix& A, const VecX& b) {
+template <class Matrix, class Rhs>
+Rhs factorize_and_solve(UmfPack<Matrix>& lu, const Matrix& A, const Rhs& b) {
   constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
   try {
     lu.factorize(A);
@@ -65,7 +65,7 @@ VecX factorize_and_solve(UmfPack<Matrix>& lu, const Matrix& A, const VecX& b) {
       throw_lu_out_of_memory(A.rows(), A.nonZeros(), long_indices);
     throw std::runtime_error("singular Newton matrix (sparse LU)");
   }
-  VecX x = lu.solve(b);
+  Rhs x = lu.solve(b);
   if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
   return x;
 }
@@ -95,12 +95,14 @@ void copy_long(const SpMat& A, bool new_pattern, SpMatL& L) {
 }
 }  // namespace
 
-VecX solve(const SpMat& A, const VecX& b) {
+namespace {
+template <class Rhs>
+Rhs solve_once(const SpMat& A, const Rhs& b) {
   if (use_dense(A)) {
     // Dense enough that a dense LU beats the sparse one.
     const MatX dense(A);
     const Eigen::PartialPivLU<MatX> lu(dense);
-    VecX x = lu.solve(b);
+    Rhs x = lu.solve(b);
     if (!x.allFinite()) throw std::runtime_error("singular Newton matrix");
     return x;
   }
@@ -114,6 +116,14 @@ VecX solve(const SpMat& A, const VecX& b) {
   UmfPack<SpMat> lu;
   analyze_lu(lu, A);
   return factorize_and_solve(lu, A, b);
+}
+}  // namespace
+
+VecX solve(const SpMat& A, const VecX& b) {
+  return solve_once(A, b);
+}
+MatX solve_columns(const SpMat& A, const MatX& B) {
+  return solve_once(A, B);
 }
 
 namespace {
@@ -175,9 +185,10 @@ bool FixedPatternLU::used_long_indices() const {
   return impl_->last_long;
 }
 
-VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
+template <class Rhs>
+Rhs FixedPatternLU::solve_any(const SpMat& A, const Rhs& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternLU: matrix not compressed");
-  if (use_dense(A)) return solve::solve(A, b);
+  if (use_dense(A)) return solve_once(A, b);
   Impl& m = *impl_;
   m.last_long = use_long(m.width, A);
   if (!m.last_long) {
@@ -193,6 +204,12 @@ VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
   });
   if (!copied) copy_long(A, false, m.A64);
   return factorize_and_solve(*m.lu64, m.A64, b);
+}
+VecX FixedPatternLU::solve(const SpMat& A, const VecX& b) {
+  return solve_any(A, b);
+}
+MatX FixedPatternLU::solve_columns(const SpMat& A, const MatX& B) {
+  return solve_any(A, B);
 }
 
 struct FixedPatternLDLT::Impl {
@@ -238,8 +255,8 @@ void check_cholmod(const Supernodal<Matrix>& llt, const Matrix& A) {
     throw_cholesky_out_of_memory(A.rows(), A.nonZeros(), long_indices, status);
 }
 
-template <class Matrix>
-VecX cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const VecX& b) {
+template <class Matrix, class Rhs>
+Rhs cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const Rhs& b) {
   constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
   try {
     llt.factorize(A);
@@ -248,7 +265,7 @@ VecX cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const VecX& b) {
   }
   check_cholmod(llt, A);
   if (llt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
-  VecX x = llt.solve(b);
+  Rhs x = llt.solve(b);
   if (!x.allFinite()) throw std::runtime_error("matrix not positive definite");
   return x;
 }
@@ -289,7 +306,8 @@ bool FixedPatternCholesky::used_long_indices() const {
   return impl_->last_long;
 }
 
-VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
+template <class Rhs>
+Rhs FixedPatternCholesky::solve_any(const SpMat& A, const Rhs& b) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternCholesky: matrix not compressed");
   Impl& m = *impl_;
   m.last_long = use_long(m.width, A);
@@ -309,6 +327,12 @@ VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
   });
   if (!copied) copy_long(A, false, m.A64);
   return cholesky_solve(*m.llt64, m.A64, b);
+}
+VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
+  return solve_any(A, b);
+}
+MatX FixedPatternCholesky::solve_columns(const SpMat& A, const MatX& B) {
+  return solve_any(A, B);
 }
 
 // An empty G (no rows, or no columns: rows over a system without freedom, e.g. a locked loop) has

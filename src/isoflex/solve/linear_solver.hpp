@@ -42,6 +42,8 @@ inline constexpr int kLongIndexUnknowns = 20000;
 // Solves A x = b; throws std::runtime_error if A is numerically singular, OutOfMemory if the
 // factorization does not fit.
 VecX solve(const SpMat& A, const VecX& b);
+// The same for the columns of B, with one factorization.
+MatX solve_columns(const SpMat& A, const MatX& B);
 
 // Solves A x = b for a sequence of matrices with one sparsity pattern (Newton matrices assembled
 // into a fixed pattern): the same dense/sparse choice as solve(), but the fill-reducing ordering
@@ -58,10 +60,13 @@ class FixedPatternLU {
   // Throws std::runtime_error if A is numerically singular, OutOfMemory if the LU does not fit.
   // A must be compressed.
   VecX solve(const SpMat& A, const VecX& b);
+  MatX solve_columns(const SpMat& A, const MatX& B);  // the columns of B, one factorization
   int analyses() const;            // how often the pattern was analysed
   bool used_long_indices() const;  // the last sparse factorization was the 64-bit one
 
  private:
+  template <class Rhs>
+  Rhs solve_any(const SpMat& A, const Rhs& b);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -93,10 +98,13 @@ class FixedPatternCholesky {
   FixedPatternCholesky(FixedPatternCholesky&&) noexcept;
   FixedPatternCholesky& operator=(FixedPatternCholesky&&) noexcept;
   VecX solve(const SpMat& A, const VecX& b);
+  MatX solve_columns(const SpMat& A, const MatX& B);  // the columns of B, one factorization
   int analyses() const;
   bool used_long_indices() const;
 
  private:
+  template <class Rhs>
+  Rhs solve_any(const SpMat& A, const Rhs& b);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

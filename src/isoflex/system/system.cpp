@@ -131,6 +131,28 @@ Vec3 System::probe_point(const VecX& q, const ProbeInstance& p) const {
   return x;
 }
 
+std::vector<std::pair<int, double>> System::probe_gradient(const ProbeInstance& p,
+                                                           const Vec3& direction) const {
+  std::vector<std::pair<int, double>> c;
+  if (!p.weights.empty()) {
+    for (const auto& [node, w] : p.weights)
+      for (int k = 0; k < 3; ++k)
+        if (w * direction(k) != 0.0) c.emplace_back(nodes_[node].q_offset + k, w * direction(k));
+    return c;
+  }
+  // Linear in the node's coordinates: the derivative along e_j is point(e_j) − point(0).
+  const NodeType& type = node_type(p.node);
+  NodeVec z = NodeVec::Zero(type.coordinates());
+  const Vec3 origin = type.material_point(z, p.X);
+  for (int j = 0; j < type.coordinates(); ++j) {
+    z(j) = 1.0;
+    const double v = direction.dot(type.material_point(z, p.X) - origin);
+    z(j) = 0.0;
+    if (v != 0.0) c.emplace_back(nodes_[p.node].q_offset + j, v);
+  }
+  return c;
+}
+
 std::vector<int> System::coordinates_of(const std::vector<int>& nodes) const {
   std::vector<int> c;
   for (int a : nodes)

@@ -260,6 +260,11 @@ class System {
   const std::vector<ProbeInstance>& probes() const { return probes_; }
   // The probe's material point in q (its velocity: the same map applied to v).
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
+  // The gradient of direction · probe_point(q) as (coordinate, value) pairs: constant, as every
+  // material point is linear in its node's coordinates (φ + Xᵢ dᵢ, DNSM-III (38); a KL point
+  // Σ R_A x_A).
+  std::vector<std::pair<int, double>> probe_gradient(const ProbeInstance& p,
+                                                     const Vec3& direction) const;
   const std::vector<KLPatchInstance>& kl_patches() const { return kl_patches_; }
   const std::vector<KLInterfaceInstance>& kl_interfaces() const { return kl_interfaces_; }
   // The patch of kl_shells entry `shell` (std::logic_error if there is none).
