@@ -18,8 +18,12 @@ using namespace isoflex::integrate;
 
 namespace {
 
-double spring(double d) { return 2.5 * d - 3.0 * d * d + d * d * d; }
-double spring_stiffness(double d) { return 2.5 - 6.0 * d + 3.0 * d * d; }
+double spring(double d) {
+  return 2.5 * d - 3.0 * d * d + d * d * d;
+}
+double spring_stiffness(double d) {
+  return 2.5 - 6.0 * d + 3.0 * d * d;
+}
 constexpr double kSecond = 4.0;  // the linear spring between nodes 1 and 2
 
 // Nodes 0, 1, 2 on a line at 0, 1, 2; the load λ at node 2 (t_end = 2). Node 0 is held by
@@ -36,7 +40,7 @@ StaticProblem chain() {
     if (!with_tangent) return;
     const double k1 = spring_stiffness(d1);
     std::vector<Eigen::Triplet<double>> trip = {
-        {0, 0, k1},  {0, 1, -k1}, {1, 0, -k1},      {1, 1, k1 + kSecond},
+        {0, 0, k1},       {0, 1, -k1},      {1, 0, -k1},    {1, 1, k1 + kSecond},
         {1, 2, -kSecond}, {2, 1, -kSecond}, {2, 2, kSecond}};
     out.K.resize(3, 3);
     out.K.setFromTriplets(trip.begin(), trip.end());

@@ -1017,8 +1017,8 @@ TEST(ModelReader, DampingFactorsOfBeamsAndShells) {
 
 TEST(ModelReader, PathFollowing) {
   const model::Model m = read_model_string(
-      with_bodies({"probes: [{name: tip, body: top, point: [1, 0, 0]}]", "solver:",
-                   "  analysis: static",
+      with_bodies({"probes: [{name: tip, body: top, point: [1, 0, 0]}]",
+                   "solver:", "  analysis: static",
                    "  path_following: {method: displacement, probe: tip, direction: [0, 0, -2], "
                    "displacement: 3}"}),
       "m.yaml");
@@ -1045,14 +1045,16 @@ TEST(ModelReader, PathFollowing) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  path_following: {method: arc_length, probe: p}"})),
             "m.yaml:7: solver.path_following.probe: not used with method arc_length");
   EXPECT_EQ(
-      error_of(with_bodies({"solver:", "  path_following: {method: displacement, probe: nope, "
-                                       "displacement: 1}"})),
+      error_of(with_bodies({"solver:",
+                            "  path_following: {method: displacement, probe: nope, "
+                            "displacement: 1}"})),
       "m.yaml:7: solver.path_following.probe: no probe named \"nope\" (give it under probes)");
-  EXPECT_EQ(error_of(with_bodies({"solver:", "  linear: true",
-                                  "  path_following: {method: arc_length}"})),
+  EXPECT_EQ(error_of(with_bodies(
+                {"solver:", "  linear: true", "  path_following: {method: arc_length}"})),
             "m.yaml:8: solver.path_following.method: path following needs a nonlinear analysis "
             "(remove solver.linear)");
-  EXPECT_EQ(error_of(with_bodies({"solver:", "  path_following: {method: displacement, probe: p, "
-                                             "displacement: 1, direction: [0, 0, 0]}"})),
+  EXPECT_EQ(error_of(with_bodies({"solver:",
+                                  "  path_following: {method: displacement, probe: p, "
+                                  "displacement: 1, direction: [0, 0, 0]}"})),
             "m.yaml:7: solver.path_following.direction: must not be zero");
 }

@@ -551,15 +551,15 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
           fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
       const integrate::StaticResult result =
           equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
-        state.q = x.head(sys.n());
-        state.t = st.t;
-        state.step = st.step;
-        path = st.path;
-        doing = fmt::format("while recording load step {}", sum.steps + 1);
-        record({st.iterations, st.residual, st.cuts + 1});
-        doing = fmt::format("in load step {} (assembling and factorizing {} unknowns)",
-                            sum.steps + 1, sum.n_unknowns);
-      });
+            state.q = x.head(sys.n());
+            state.t = st.t;
+            state.step = st.step;
+            path = st.path;
+            doing = fmt::format("while recording load step {}", sum.steps + 1);
+            record({st.iterations, st.residual, st.cuts + 1});
+            doing = fmt::format("in load step {} (assembling and factorizing {} unknowns)",
+                                sum.steps + 1, sum.n_unknowns);
+          });
       if (!result.stopped.empty()) {
         sum.message = result.stopped;
         fmt::print(err, "warning: {}\n", result.stopped);

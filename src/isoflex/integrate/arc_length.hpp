@@ -17,8 +17,8 @@ namespace isoflex::integrate {
 
 // Throws std::runtime_error when the quadratic has no real root (the corrector left the
 // sphere's reach: the step is retried with a shorter arc).
-inline double arc_length_correction(const VecX& du, double dlam, const VecX& du_R,
-                                    const VecX& du_l, double w, double dl) {
+inline double arc_length_correction(const VecX& du, double dlam, const VecX& du_R, const VecX& du_l,
+                                    double w, double dl) {
   const VecX v = du + du_R;
   const double a = du_l.squaredNorm() + w;
   const double b = 2.0 * (du_l.dot(v) + w * dlam);

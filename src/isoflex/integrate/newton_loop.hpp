@@ -95,9 +95,8 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
       out.first_residual = out.residual;
       first_scale = out.scale;
     }
-    const bool diverged =
-        !std::isfinite(out.residual) ||
-        (it >= opt.min_corrections && out.residual > 1e6 * divergence_base());
+    const bool diverged = !std::isfinite(out.residual) ||
+                          (it >= opt.min_corrections && out.residual > 1e6 * divergence_base());
     if (diverged && (opt.stop_when_diverging || !std::isfinite(out.residual))) break;
     if (it >= opt.min_corrections &&
         (out.residual <= opt.residual_tolerance * out.scale || out.residual == 0.0)) {

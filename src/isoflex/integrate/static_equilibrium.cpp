@@ -39,8 +39,9 @@ StaticSettings static_settings(const model::Solver& s, const system::System& sys
   StaticSettings out = static_settings(s);
   if (out.path.control != PathControl::displacement) return out;
   const auto& probes = sys.probes();
-  const auto it = std::find_if(probes.begin(), probes.end(),
-                               [&](const system::ProbeInstance& p) { return p.name == s.path.probe; });
+  const auto it = std::find_if(probes.begin(), probes.end(), [&](const system::ProbeInstance& p) {
+    return p.name == s.path.probe;
+  });
   if (it == probes.end())
     throw std::invalid_argument("solver.path_following.probe: no probe named \"" + s.path.probe +
                                 "\"");

@@ -229,7 +229,7 @@ struct StaticNewtonSolver::Impl {
   }
 
   // --- Path following (header) -------------------------------------------------------------
-  VecX control;            // c on the Newton unknowns z = (free dofs, μ) (displacement control)
+  VecX control;             // c on the Newton unknowns z = (free dofs, μ) (displacement control)
   double path_scale = 0.0;  // ‖∂R/∂λ‖∞ t_end at the reference: the least convergence scale
 
   // The free configuration entries of x (the first nf_configuration unknowns of z).
@@ -473,9 +473,8 @@ const StaticSettings& StaticNewtonSolver::settings() const {
 }
 
 StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {
-  return impl_->settings.path.control == PathControl::arc_length
-             ? impl_->solve_arc_length(observer)
-             : impl_->solve_stepped(observer);
+  return impl_->settings.path.control == PathControl::arc_length ? impl_->solve_arc_length(observer)
+                                                                 : impl_->solve_stepped(observer);
 }
 
 // Load control and displacement control: the nominal levels t = t_end k / steps, halved on
@@ -594,14 +593,16 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
   const auto length = [&](const VecX& dz, double dlam) {
     return std::sqrt(dz.head(nf_configuration).squaredNorm() + w * dlam * dlam);
   };
-  const double dl0 = p.arc_length > 0.0 ? p.arc_length : s.t_end / s.steps * length(dz_prev, 1.0);
+  const double dl_first =
+      p.arc_length > 0.0 ? p.arc_length : s.t_end / s.steps * length(dz_prev, 1.0);
+  const double dl0 = p.max_arc_length > 0.0 ? std::min(dl_first, p.max_arc_length) : dl_first;
   if (!(dl0 > 0.0) || !std::isfinite(dl0))
     throw NewtonFailure(fmt::format(
         "static arc length: the tangent at the reference has no length ({:.3g}): the loads do not "
         "move the free coordinates",
         dl0));
   const double dl_min = dl0 / std::ldexp(1.0, s.max_cuts);
-  const double dl_max = p.max_arc_length > 0.0 ? std::max(p.max_arc_length, dl0) : 10.0 * dl0;
+  const double dl_max = p.max_arc_length > 0.0 ? p.max_arc_length : 10.0 * dl0;
   double dl = dl0, arc = 0.0;
   int cuts = 0;
   Carried carried;

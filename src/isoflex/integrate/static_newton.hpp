@@ -100,7 +100,7 @@ struct PathSettings {
   // nominal load increment t_end / steps), the load weight ψ, the Newton iterations a step aims
   // at, and the most steps
   double arc_length = 0.0;
-  double max_arc_length = 0.0;  // the longest step (0: 10 Δl₀)
+  double max_arc_length = 0.0;  // the longest step, the first included (0: 10 Δl₀)
   double load_weight = 0.0;
   int target_iterations = 6;
   int max_steps = 1000;
@@ -123,8 +123,8 @@ struct StaticSettings {
 };
 
 struct LoadStepStats {
-  int step = 0;                          // 1, 2, … (accepted steps)
-  double t = 0.0;                        // load parameter reached (the load factor λ)
+  int step = 0;    // 1, 2, … (accepted steps)
+  double t = 0.0;  // load parameter reached (the load factor λ)
   // The path parameter: t under load control, the control displacement c·(x − X), the arc length
   // from the start (the sum of the steps' Δl).
   double path = 0.0;

@@ -61,7 +61,7 @@ class FixedPatternLU {
   // A must be compressed.
   VecX solve(const SpMat& A, const VecX& b);
   MatX solve_columns(const SpMat& A, const MatX& B);  // the columns of B, one factorization
-  int analyses() const;            // how often the pattern was analysed
+  int analyses() const;                               // how often the pattern was analysed
   bool used_long_indices() const;  // the last sparse factorization was the 64-bit one
 
  private:
