@@ -292,6 +292,16 @@ TEST(KLSeams, CheckListsTheSeamAndTheKnotLines) {
                           "coupling angle (15 rows, "),
             std::string::npos);
   EXPECT_NE(lines[4].find("tube -- tube at the knot line ξ = 0.75"), std::string::npos);
+  // A pair naming the shell twice sets its seam's and knot lines' coupling.
+  const auto pair = test::static_system(io::read_model_string(
+      full_cylinder(true, "") +
+          "\nkl_interfaces: {coupling: angle, pairs: [{shells: [tube, tube], coupling: c0}]}\n",
+      "m.yaml"));
+  ASSERT_EQ(pair.kl_interfaces().size(), 4u);
+  for (const auto& I : pair.kl_interfaces()) {
+    EXPECT_EQ(I.coupling, model::KLCoupling::c0);
+    EXPECT_EQ(I.constraint_index, -1);
+  }
   // Open: the seam is not an interface, its columns are separate nodes; check says so.
   const model::Model mo = io::read_model_string(full_cylinder(true, ", seam: open"), "m.yaml");
   const auto so = test::static_system(mo);
