@@ -63,8 +63,9 @@ class KLShellPatch {
   // ((p+1)(q+1) > 36, the fixed-size kernel), a non-positive E, thickness or density < 0,
   // ν outside (−1, 0.5), a negative rule, an invalid surface (NurbsSurface::validate), or a
   // degenerate reference point (|A₁ × A₂| ≤ 10⁻¹² |A₁||A₂| at a quadrature point).
-  // Interior knots of multiplicity p (C⁰) are accepted but act as hinges (no bending coupling
-  // across them; bending strips are not built here).
+  // Interior knots of multiplicity p (C⁰) are accepted; the patch alone is a hinge there (no
+  // bending coupling across). A model couples such lines like interfaces between patches
+  // (system/kl_interfaces.hpp, a patch joined to itself).
   KLShellPatch(geometry::NurbsSurface reference, KLShellSection section, int rule_u = 0,
                int rule_v = 0);
 

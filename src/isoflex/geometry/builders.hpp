@@ -6,8 +6,9 @@
 // control point on the intersection of the end tangents (distance R / cos(Δθ/2) from the
 // centre) with weight cos(Δθ/2), segments joined by a double knot (geometry C¹/G¹ there, the
 // parametrization C⁰). Degree elevation keeps that knot p-fold, so a Kirchhoff–Love patch on an
-// arc beyond 90° has a C⁰ line of its basis there, which it treats as a hinge (no bending
-// coupling across it; elements/kl_shell_patch.hpp, docs/theory/kl-shell.md §1). Surfaces are
+// arc beyond 90° has a C⁰ line of its basis there: alone a hinge (no bending coupling across
+// it, elements/kl_shell_patch.hpp); a model joins it like an interface between two patches
+// (system/kl_interfaces.hpp, docs/theory/multipatch.md §7). Surfaces are
 // oriented so that S_ξ × S_η points outward (away from the axis or centre), or along +z for
 // planar ones. All throw std::invalid_argument on non-positive or non-finite sizes and
 // out-of-range angles.
@@ -31,7 +32,9 @@ NurbsSurface planar_rectangle(double lx, double ly);
 // Cylinder sector of radius R about the z axis: ξ runs along the arc from +x through `angle`
 // ∈ (0, 2π] (one rational quadratic segment per started 90°, joined by double knots), η along
 // the axis from z = 0 to z = length (degree 1). For angle = 2π the patch is closed: its edges
-// ξ = 0 and ξ = 1 coincide (the same control points), a seam that is not joined.
+// ξ = 0 and ξ = 1 coincide (distinct control points at the same positions, bit for bit). The
+// surface itself is not joined there; a model joins such a seam (C⁰ plus the bending coupling of
+// kl_interfaces) unless its kl_shells entry says `seam: open` (system/kl_interfaces.hpp).
 NurbsSurface cylinder_sector(double radius, double length, double angle);
 // The full cylinder, cylinder_sector(radius, length, 2π): 4 segments, a seam at +x.
 NurbsSurface cylinder(double radius, double length);
@@ -39,8 +42,8 @@ NurbsSurface cylinder(double radius, double length);
 // Annular sector in the xy-plane about the origin, inner radius r_i < outer radius r_o: ξ along
 // the arc from +x counter-clockwise through `angle` ∈ (0, 2π] (segments as for cylinder_sector),
 // η radially from the outer circle (η = 0) to the inner one (η = 1), degree 1 — inwards, so that
-// S_ξ × S_η points along +z. For angle = 2π the radial edges ξ = 0 and ξ = 1 coincide (a slit
-// annulus while they are not joined).
+// S_ξ × S_η points along +z. For angle = 2π the radial edges ξ = 0 and ξ = 1 coincide: a model
+// joins them unless told `seam: open`, which keeps the slit annulus (Sze et al. 2004).
 NurbsSurface annulus(double inner_radius, double outer_radius, double angle);
 
 // Sphere sector of radius R about the origin, a surface of revolution (tensor product of two

@@ -47,7 +47,7 @@ std::vector<model::KLShell> KLShellReader::shells(
 model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
                                     const std::vector<model::Surface>& surfaces) const {
   expect_map(n, p);
-  check_keys(n, p, {"name", "surface", "material", "quadrature"});
+  check_keys(n, p, {"name", "surface", "material", "quadrature", "seam"});
   model::KLShell s;
   s.source = source(n);
   const YAML::Node name = require(n, p, "name");
@@ -92,6 +92,15 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
       if (s.quadrature[d] > kMaxQuadrature)
         fail(q[d], indexed(qk, d), fmt::format("at most {} points per span", kMaxQuadrature));
     }
+  }
+  if (const auto seam = n["seam"]) {
+    const std::string v = string(seam, join(p, "seam"));
+    if (v != "joined" && v != "open")
+      fail(seam, join(p, "seam"),
+           "unknown seam \"" + v +
+               "\" (expected joined: the patch's coincident edges are one interface, or open: "
+               "they stay apart, a slit)");
+    s.open_seam = v == "open";
   }
   return s;
 }
@@ -307,7 +316,6 @@ model::KLInterfaces KLShellReader::interfaces(const YAML::Node& n, const model::
         fail(sh, join(ep, "shells"), "expected the names of two kl_shells");
       pair.a = find_shell(sh[0], indexed(join(ep, "shells"), 0), m).name;
       pair.b = find_shell(sh[1], indexed(join(ep, "shells"), 1), m).name;
-      if (pair.a == pair.b) fail(sh, join(ep, "shells"), "two different kl_shells");
       if (const auto c = e["coupling"]) pair.coupling = coupling(c, join(ep, "coupling"));
       if (const auto b = e["beta"]) pair.beta = positive(b, join(ep, "beta"));
       out.pairs.push_back(std::move(pair));

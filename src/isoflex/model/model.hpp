@@ -270,6 +270,9 @@ struct KLShell {
   double E = 0.0, nu = 0.0, thickness = 0.0, density = 0.0;
   double eta = 0.0;  // Kelvin–Voigt damping factor η (s): S_v = η C Ė (IGA-thesis (3.51))
   std::array<int, 2> quadrature = {0, 0};  // Gauss points per span; 0: degree + 1
+  // `seam: open`: two edges of the patch that coincide (a closed patch, e.g. an annulus of 360°)
+  // are not joined — the slit annulus of Sze et al. 2004. Default `joined`.
+  bool open_seam = false;
   Source source;
 };
 

@@ -140,22 +140,52 @@ struct Box {
 };
 
 // The edge pairs that coincide as curves. Throws for an edge that lies along part of another.
+// Samples inside an edge (not at knots of a uniform refinement), as fractions of its range.
+constexpr double kSamples[] = {0.13, 0.29, 0.5, 0.71, 0.87};
+
+// Two edges of one patch that coincide point for point at equal (or, reversed, mirrored)
+// fractions of their parameter ranges: a closed patch's seam. Projection cannot decide this (a
+// point on the seam projects onto either edge), and a seam of one patch has one parametrization
+// on both sides in every closed surface built here or read from CAD.
+bool same_curve(const NurbsSurface& g, PatchEdge ea, PatchEdge eb, bool reversed, double tol) {
+  return std::all_of(std::begin(kSamples), std::end(kSamples), [&](double f) {
+    return (edge_point(g, ea, f) - edge_point(g, eb, reversed ? 1.0 - f : f)).norm() <= tol;
+  });
+}
+
 std::vector<EdgePair> coincident_edges(const std::vector<NurbsSurface>& s,
-                                       const std::vector<std::string>& names, double tol) {
+                                       const std::vector<std::string>& names, double tol,
+                                       const std::vector<bool>& open_seam,
+                                       std::vector<std::pair<int, std::string>>& open_seams) {
   std::vector<EdgePair> out;
   const int n = static_cast<int>(s.size());
   for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
+    for (int b = a; b < n; ++b)
       for (PatchEdge ea : kEdges)
         for (PatchEdge eb : kEdges) {
+          // Within one patch each unordered pair of different edges once.
+          if (a == b && static_cast<int>(eb) <= static_cast<int>(ea)) continue;
           const std::vector<Vec3> ra = row_points(s[a], ea, 0), rb = row_points(s[b], eb, 0);
           if (collapsed(ra, tol) || collapsed(rb, tol)) continue;
           if (!Box(ra, tol).overlaps(Box(rb, tol))) continue;
           const auto near = [&](const Vec3& x, const Vec3& y) { return (x - y).norm() <= tol; };
           const bool fwd = near(ra.front(), rb.front()) && near(ra.back(), rb.back());
           const bool rev = near(ra.front(), rb.back()) && near(ra.back(), rb.front());
-          // Samples inside the edge (not at knots of a uniform refinement).
-          constexpr double kSamples[] = {0.13, 0.29, 0.5, 0.71, 0.87};
+          if (a == b) {
+            // Adjacent edges of a patch share a corner; only a whole edge on another is a seam.
+            // Of a closed edge (both ends at one point) fwd and rev both hold: try both.
+            for (const bool r : {false, true}) {
+              if (!(r ? rev : fwd) || !same_curve(s[a], ea, eb, r, tol)) continue;
+              if (!open_seam.empty() && open_seam[static_cast<std::size_t>(a)])
+                open_seams.emplace_back(
+                    a, fmt::format("{} -- {}{}", edge_name(names, a, ea), loads::to_string(eb),
+                                   r ? " (reversed)" : ""));
+              else
+                out.push_back({a, b, ea, eb, r});
+              break;
+            }
+            continue;
+          }
           const auto along_other = [&](const NurbsSurface& from, PatchEdge ef,
                                        const NurbsSurface& to, PatchEdge et) {
             return std::all_of(std::begin(kSamples), std::end(kSamples), [&](double f) {
@@ -207,6 +237,7 @@ void make_conforming(std::vector<NurbsSurface>& s, const std::vector<EdgePair>& 
       };
       if (pa < pb) elevate(p.a, p.ea, pb - pa, p.b, p.eb);
       if (pb < pa) elevate(p.b, p.eb, pa - pb, p.a, p.ea);
+      if (p.a == p.b && pa != pb) continue;  // one surface: compare again in the next pass
       const KnotVector &ka = knots_along(s[p.a], p.ea), &kb = knots_along(s[p.b], p.eb);
       const Breaks target = merged(normalized_breaks(ka, false), normalized_breaks(kb, p.reversed));
       const std::vector<double> na = missing_knots(ka, false, target);
@@ -221,7 +252,9 @@ void make_conforming(std::vector<NurbsSurface>& s, const std::vector<EdgePair>& 
         changed = true;
       };
       insert(p.a, p.ea, na, p.b, p.eb);
-      insert(p.b, p.eb, nb, p.a, p.ea);
+      // A patch's own seam: b's knots are in the surface just refined; the next pass computes
+      // what is still missing from that (inserting both would insert a knot twice).
+      if (p.a != p.b) insert(p.b, p.eb, nb, p.a, p.ea);
     }
     if (!changed) return;
     if (pass + 1 >= most_passes)
@@ -245,12 +278,15 @@ struct Groups {
 }  // namespace
 
 KLPatchJoining join_kl_patches(std::vector<NurbsSurface> surfaces, double relative_tolerance,
-                               const std::vector<std::string>& names) {
+                               const std::vector<std::string>& names,
+                               const KLJoinOptions& options) {
   if (!(relative_tolerance > 0.0 && relative_tolerance <= 0.01))
     throw std::invalid_argument(
         fmt::format("interface tolerance must lie in (0, 0.01], got {}", relative_tolerance));
   if (names.size() != surfaces.size())
     throw std::invalid_argument("join_kl_patches: one name per surface");
+  if (!options.open_seam.empty() && options.open_seam.size() != surfaces.size())
+    throw std::invalid_argument("join_kl_patches: one open_seam flag per surface");
   KLPatchJoining J;
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (const NurbsSurface& g : surfaces)
@@ -259,7 +295,21 @@ KLPatchJoining join_kl_patches(std::vector<NurbsSurface> surfaces, double relati
       hi = hi.cwiseMax(x);
     }
   J.tolerance = surfaces.empty() ? 0.0 : relative_tolerance * (hi - lo).norm();
-  const std::vector<EdgePair> pairs = coincident_edges(surfaces, names, J.tolerance);
+  std::vector<std::pair<int, std::string>> open_seams;
+  const std::vector<EdgePair> pairs =
+      coincident_edges(surfaces, names, J.tolerance, options.open_seam, open_seams);
+  for (std::size_t k = 0; k < options.open_seam.size(); ++k) {
+    const int K = static_cast<int>(k);
+    if (options.open_seam[k] && std::none_of(open_seams.begin(), open_seams.end(),
+                                             [&](const auto& o) { return o.first == K; }))
+      throw KLInterfaceError(
+          K, K,
+          fmt::format("seam: open, but no two edges of \"{}\" coincide (within {:.3g}): the patch "
+                      "has no seam to keep open",
+                      names[k], J.tolerance),
+          "seam");
+  }
+  for (const auto& o : open_seams) J.open_seams.push_back(o.second);
   make_conforming(surfaces, pairs, names, J.refinements);
 
   std::vector<int> offset(surfaces.size() + 1, 0);
@@ -267,7 +317,12 @@ KLPatchJoining join_kl_patches(std::vector<NurbsSurface> surfaces, double relati
     offset[k + 1] = offset[k] + static_cast<int>(surfaces[k].points.size());
   Groups groups(offset.back());
   for (const EdgePair& p : pairs) {
-    KLInterface f{p.a, p.b, p.ea, p.eb, p.reversed, {}, {}, {}, {}, 0.0, 0.0};
+    KLInterface f;
+    f.a = p.a;
+    f.b = p.b;
+    f.edge_a = p.ea;
+    f.edge_b = p.eb;
+    f.reversed = p.reversed;
     f.shared_a = loads::edge_control_points(surfaces[p.a], p.ea, 0);
     f.inner_a = loads::edge_control_points(surfaces[p.a], p.ea, 1);
     f.shared_b = loads::edge_control_points(surfaces[p.b], p.eb, 0);
@@ -302,6 +357,47 @@ KLPatchJoining join_kl_patches(std::vector<NurbsSurface> surfaces, double relati
     }
     J.interfaces.push_back(std::move(f));
   }
+  // The C⁰ knot lines inside each patch, after the conforming (which may have carried such a
+  // line over from a neighbour: a knot inserted with the neighbour's multiplicity p).
+  for (std::size_t k = 0; k < surfaces.size(); ++k)
+    for (const bool along_v : {false, true}) {
+      const NurbsSurface& g = surfaces[k];
+      const KnotVector& kv = along_v ? g.v : g.u;
+      const int p = kv.degree(), nu = g.n_u();
+      const int count = along_v ? g.n_v() : nu, other = along_v ? nu : g.n_v();
+      for (double t : kv.breakpoints()) {
+        if (!(t > kv.front() && t < kv.back())) continue;
+        const int m = kv.multiplicity(t);
+        if (m < p) continue;
+        const int K = static_cast<int>(k);
+        if (m > p)
+          throw KLInterfaceError(
+              K, K,
+              fmt::format("\"{}\": the knot {} = {} has multiplicity {} > degree {}: the basis is "
+                          "discontinuous there and the pieces are not joined (split the patch "
+                          "there into two patches)",
+                          names[k], along_v ? "η" : "ξ", t, m, p));
+        // The one basis function that is 1 on the line (multiplicity p: the function before the
+        // knot's first copy interpolates it), its column (or row) c of control points.
+        const auto& U = kv.knots();
+        const int first = static_cast<int>(std::find(U.begin(), U.end(), t) - U.begin());
+        const int c = first - 1;
+        if (c < 1 || c + 1 >= count) throw std::logic_error("join_kl_patches: knot line at a rim");
+        KLInterface f;
+        f.a = f.b = K;
+        f.kind = KLInterfaceKind::knot_line;
+        f.knot_along_v = along_v;
+        f.knot = t;
+        const auto index = [&](int line, int s) { return along_v ? s + nu * line : line + nu * s; };
+        for (int s = 0; s < other; ++s) {
+          f.inner_a.push_back(index(c - 1, s));
+          f.shared_a.push_back(index(c, s));
+          f.shared_b.push_back(index(c, s));
+          f.inner_b.push_back(index(c + 1, s));
+        }
+        J.interfaces.push_back(std::move(f));
+      }
+    }
   // The coincident control points at their mean position.
   std::vector<Vec3> sum(static_cast<std::size_t>(offset.back()), Vec3::Zero());
   std::vector<int> count(static_cast<std::size_t>(offset.back()), 0);
@@ -319,16 +415,32 @@ KLPatchJoining join_kl_patches(std::vector<NurbsSurface> surfaces, double relati
       J.point_group[k].push_back(r);
     }
   for (KLInterface& f : J.interfaces) {
-    f.angle_min = 180.0;
-    f.angle_max = 0.0;
+    // A triple with a leg of length ≤ τ (at a pole all three points coincide) has no angle: it
+    // is left out of the triples (its shared point stays joined).
+    KLInterface kept = f;
+    kept.shared_a.clear();
+    kept.shared_b.clear();
+    kept.inner_a.clear();
+    kept.inner_b.clear();
+    kept.angle_min = 180.0;
+    kept.angle_max = 0.0;
     for (int k = 0; k < f.triples(); ++k) {
       const Vec3 x = surfaces[f.a].points[f.shared_a[k]];
       const Vec3 da = surfaces[f.a].points[f.inner_a[k]] - x;
       const Vec3 db = surfaces[f.b].points[f.inner_b[k]] - x;
+      if (!(da.norm() > J.tolerance && db.norm() > J.tolerance)) {
+        ++kept.degenerate_triples;
+        continue;
+      }
+      kept.shared_a.push_back(f.shared_a[k]);
+      kept.shared_b.push_back(f.shared_b[k]);
+      kept.inner_a.push_back(f.inner_a[k]);
+      kept.inner_b.push_back(f.inner_b[k]);
       const double deg = std::atan2(da.cross(db).norm(), da.dot(db)) * 180.0 / std::numbers::pi;
-      f.angle_min = std::min(f.angle_min, deg);
-      f.angle_max = std::max(f.angle_max, deg);
+      kept.angle_min = std::min(kept.angle_min, deg);
+      kept.angle_max = std::max(kept.angle_max, deg);
     }
+    f = std::move(kept);
   }
   J.surfaces = std::move(surfaces);
   return J;

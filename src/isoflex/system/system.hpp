@@ -96,9 +96,9 @@ struct KLPatchInstance {
   bool renumbered = false;
 };
 
-// An interface between two Kirchhoff–Love patches (system/kl_interfaces.hpp): its shared control
-// points are one node (C⁰); a bending strip, if the coupling has one, is an element over its
-// triples.
+// An interface between two Kirchhoff–Love patches, or of one patch with itself along its seam
+// or a C⁰ knot line (a == b; system/kl_interfaces.hpp): its shared control points are one node
+// (C⁰); a bending strip, if the coupling has one, is an element over its triples.
 struct KLInterfaceInstance {
   std::string a, b;  // the shells
   KLInterface geometry;
@@ -113,11 +113,12 @@ struct KLInterfaceInstance {
   int constraint_index = -1;
 };
 
-// How the Kirchhoff–Love patches were joined: the tolerance of coincidence and what was refined
-// to make interfaces conforming.
+// How the Kirchhoff–Love patches were joined: the tolerance of coincidence, what was refined
+// to make interfaces conforming, and the seams left open (kl_shells `seam: open`).
 struct KLJoiningReport {
   double tolerance = 0.0;
   std::vector<std::string> refinements;
+  std::vector<std::string> open_seams;
 };
 
 // A material point followed by a probe: X in the coordinates of `node`, or (KL patches) the

@@ -1,7 +1,11 @@
 // The Kirchhoff–Love patches of a model in the System (docs/model-files.md "kl_shells",
-// "kl_interfaces"; docs/theory/multipatch.md): the patches joined along their common edges
+// "kl_interfaces"; docs/theory/multipatch.md): the patches joined along their common edges, a
+// closed patch along its own seam, and every patch across its C⁰ knot lines
 // (system/kl_interfaces.hpp), one point node per distinct control point, each patch an element
-// with its loads, and the bending strips of the interfaces as elements.
+// with its loads, and the bending strips of the interfaces as elements. Nothing below needs the
+// two sides of an interface to be different patches: a coupling works on the system nodes of
+// the triples, which are distinct on a seam (the seam's two rows are one node, the triple's
+// inner points are the next rows on either side) and on a knot line (columns c − 1, c, c + 1).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -10,6 +14,7 @@
 #include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/joints/triple_continuity_rows.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
+#include "isoflex/system/kl_interface_report.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/strip_force_rows.hpp"
 #include "isoflex/system/system.hpp"
@@ -40,14 +45,17 @@ void System::add_kl_patches(const model::Model& m) {
     surfaces.push_back(kl_surface(m, S));
     names.push_back(S.name);
   }
+  KLJoinOptions options;
+  for (const model::KLShell& S : m.kl_shells) options.open_seam.push_back(S.open_seam);
   KLPatchJoining J;
   try {
-    J = join_kl_patches(std::move(surfaces), m.kl_interfaces.tolerance, names);
+    J = join_kl_patches(std::move(surfaces), m.kl_interfaces.tolerance, names, options);
   } catch (const KLInterfaceError& e) {
     compile_fail(m.kl_shells[static_cast<std::size_t>(e.patch_b)].source,
-                 fmt::format("kl_shells[{}]", e.patch_b), e.what());
+                 fmt::format("kl_shells[{}]{}", e.patch_b, e.key.empty() ? "" : "." + e.key),
+                 e.what());
   }
-  kl_joining_ = {J.tolerance, J.refinements};
+  kl_joining_ = {J.tolerance, J.refinements, J.open_seams};
   const int group = static_cast<int>(m.beams.size() + m.shells.size());
   std::vector<int> node_of_point;  // by point group
   for (const auto& g : J.point_group)
@@ -126,8 +134,12 @@ void System::add_kl_couplings(const model::Model& m) {
     if (!found)
       compile_fail(
           p.source, fmt::format("kl_interfaces.pairs[{}]", i),
-          fmt::format("\"{}\" and \"{}\" have no common edge (within the tolerance {:.3g})", p.a,
-                      p.b, kl_joining_.tolerance));
+          p.a == p.b
+              ? fmt::format("\"{}\" has no interface with itself: no joined seam (two of its edges "
+                            "coinciding within the tolerance {:.3g}) and no C⁰ knot line",
+                            p.a, kl_joining_.tolerance)
+              : fmt::format("\"{}\" and \"{}\" have no common edge (within the tolerance {:.3g})",
+                            p.a, p.b, kl_joining_.tolerance));
   }
   const auto shell = [&](const std::string& name) -> const model::KLShell& {
     return *std::find_if(m.kl_shells.begin(), m.kl_shells.end(),
@@ -162,7 +174,10 @@ void System::add_kl_couplings(const model::Model& m) {
         source = p.source;
       }
     if (I.coupling == model::KLCoupling::c0) continue;
-    const std::string what = fmt::format("kl_interfaces ({} -- {})", I.a, I.b);
+    const std::string what =
+        fmt::format("kl_interfaces ({})",
+                    I.a != I.b ? fmt::format("{} -- {}", I.a, I.b) : kl_interface_name(I));
+    if (I.geometry.triples() == 0) continue;  // all triples degenerate (at a pole)
     const model::KLShell &sa = shell(I.a), &sb = shell(I.b);
     const model::KLShell& stiff = sa.E * sa.thickness * sa.thickness * sa.thickness >=
                                           sb.E * sb.thickness * sb.thickness * sb.thickness

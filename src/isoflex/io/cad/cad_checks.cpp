@@ -66,9 +66,10 @@ void check_direction(const geometry::KnotVector& kv, const char* dir, std::vecto
          fmt::format("C⁰ line{} inside the patch at {} = {} (knot multiplicity ≥ degree {}): "
                      "the surface may have a kink there and the basis is only C⁰ across it",
                      c0.size() > 1 ? "s" : "", dir, join(c0), p),
-         "if the surface is smooth there, remove the repeated knots (knot removal in the CAD "
-         "tool); if it is a real kink, split the patch there and join the pieces with a bending "
-         "strip or continuity constraints"});
+         "a Kirchhoff–Love shell on the patch couples the two sides of the line like an "
+         "interface between patches (kl_interfaces: its coupling, a bending strip by default); "
+         "if the surface is smooth there, removing the repeated knots (knot removal in the CAD "
+         "tool) gives C¹ instead"});
   if (!broken.empty())
     out.push_back(
         {Severity::error,
