@@ -25,6 +25,7 @@
 #include "isoflex/io/summary_writer.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/memory.hpp"
+#include "isoflex/system/kl_interface_report.hpp"
 #include "isoflex/system/memory_estimate.hpp"
 #include "isoflex/system/system.hpp"
 
@@ -183,50 +184,7 @@ void print_kl_check(const model::Model& m, const system::KLPatchInstance& P, std
 // The interfaces between Kirchhoff–Love patches: which edges, how many triples, the angle, the
 // coupling, and what was refined to make them conforming.
 void print_kl_interfaces(const system::System& sys, std::FILE* out) {
-  const auto& faces = sys.kl_interfaces();
-  if (sys.kl_patches().size() < 2) return;
-  fmt::print(out,
-             "kl interfaces    {} (edges coincide within {:.3g}; their control points are one "
-             "node each)\n",
-             faces.size(), sys.kl_joining().tolerance);
-  for (const system::KLInterfaceInstance& I : faces) {
-    const system::KLInterface& f = I.geometry;
-    const std::string angle = std::abs(f.angle_max - f.angle_min) < 0.05
-                                  ? fmt::format("{:.1f}°", f.angle_min)
-                                  : fmt::format("{:.1f}° … {:.1f}°", f.angle_min, f.angle_max);
-    std::string coupling;
-    switch (I.coupling) {
-      case model::KLCoupling::c0:
-        coupling = "c0 (a hinge: no bending moment across)";
-        break;
-      case model::KLCoupling::bending_strip:
-        coupling = fmt::format("bending_strip (β = {:g}, E_s = {:g})", I.beta, I.young);
-        break;
-      case model::KLCoupling::perturbed_lagrange: {
-        const int c = I.constraint_index;
-        coupling = fmt::format(
-            "perturbed_lagrange (α = {:g}, {} rows, all kept)", I.beta,
-            sys.nary_constraints()[static_cast<std::size_t>(c)].constraint->constraint_count());
-        break;
-      }
-      case model::KLCoupling::strip_constraints:
-      case model::KLCoupling::angle: {
-        const int c = I.constraint_index;
-        const auto& rows = *sys.nary_constraints()[static_cast<std::size_t>(c)].constraint;
-        coupling = fmt::format(
-            "{} ({} rows, {} independent{})",
-            I.coupling == model::KLCoupling::angle ? "angle" : "strip_constraints",
-            rows.constraint_count(), sys.independent_rows_of(c),
-            rows.reselected() ? " at the reference, chosen again in every load step" : "");
-        break;
-      }
-    }
-    fmt::print(out, "  {} {} -- {} {}{}: {} triples, angle {}, coupling {}\n", I.a,
-               loads::to_string(f.edge_a), I.b, loads::to_string(f.edge_b),
-               f.reversed ? " (reversed)" : "", f.triples(), angle, coupling);
-  }
-  for (const std::string& r : sys.kl_joining().refinements)
-    fmt::print(out, "  made conforming: {}\n", r);
+  for (const std::string& line : system::kl_interface_report(sys)) fmt::print(out, "{}\n", line);
 }
 
 // A static analysis: load steps, the linear conditions and the unknowns.
