@@ -410,3 +410,26 @@ TEST(StaticNewton, DofMap) {
   EXPECT_EQ(lc.eliminated, (std::vector<int>{2, 5}));
   EXPECT_DOUBLE_EQ(lc.eliminated_value[1](1.0), 2.0);
 }
+
+// A spring chain whose last spring is 10⁻²⁰ of the others: positive definite in floating point,
+// so the factorization succeeds, but its correction is 10²⁰ times the model — a mechanism, which
+// the step reports as a singular matrix instead of accepting.
+TEST(StaticNewton, NearlySingularMatrixIsReportedNotAccepted) {
+  SpringChain chain;
+  chain.k.back() = 1e-20 * chain.k.front();
+  chain.c.back() = 0.0;
+  for (const bool linear : {false, true}) {
+    StaticProblem pb = chain.problem();
+    pb.linear = linear;
+    StaticSettings s;
+    StaticNewtonSolver solver(pb, chain.fixed_root(), s);
+    try {
+      solver.solve();
+      ADD_FAILURE() << "no failure";
+    } catch (const NewtonFailure& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("load step 1 did not converge"), std::string::npos) << what;
+      EXPECT_NE(what.find("singular Newton matrix: a correction of"), std::string::npos) << what;
+    }
+  }
+}

@@ -459,3 +459,31 @@ TEST(KLSeams, JoinFindsSeamAndKnotLines) {
         << e.what();
   }
 }
+
+// A c0 coupling across the 90° knot line of a half annulus clamped on one radial edge leaves a
+// hinge: a mechanism. The factorization succeeds on a round-off pivot (a correction of 3.6e15
+// for a model of size 10 before the check); the load step fails with a message that names it.
+TEST(KLSeams, HingeMechanismIsASingularMatrixNotAResult) {
+  for (const char* linear : {"true", "false"}) {
+    const std::string text = std::string("name: hinge\nsolver: {analysis: static, dt: 1, linear: ") +
+                             linear + R"(}
+surfaces:
+  - name: ring
+    builtin: {type: annulus, inner_radius: 6, outer_radius: 10, angle: 180}
+    refine: {elevate: [0, 1]}
+kl_shells:
+  - {name: ring, surface: ring, material: {E: 21e6, nu: 0, thickness: 0.03}}
+kl_interfaces: {coupling: c0}
+kl_supports:
+  - {shell: ring, edge: u0, clamped: all}
+kl_loads:
+  - {name: lift, shell: ring, point: [-8, 0, 0], force: [0, 0, "1*t"]}
+)";
+    const model::Model m = io::read_model_string(text, "m.yaml");
+    const auto sys = test::static_system(m);
+    const test::StaticRun r = test::solve_static(sys, m);
+    EXPECT_TRUE(r.steps.empty()) << linear;
+    EXPECT_NE(r.failure.find("load step 1 did not converge"), std::string::npos) << r.failure;
+    EXPECT_NE(r.failure.find("singular Newton matrix"), std::string::npos) << r.failure;
+  }
+}

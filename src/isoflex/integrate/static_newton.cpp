@@ -188,6 +188,19 @@ struct StaticNewtonSolver::Impl {
     return R;
   }
 
+  // A factorization of a singular matrix (a mechanism: a part held by neither supports nor
+  // couplings, a c0 interface as a hinge) can succeed on round-off pivots and return a correction
+  // of the size 1/eps; no static correction is 10⁸ times the size of the model.
+  void check_not_singular(const VecX& dz, double xscale) const {
+    const double size = inf_norm(dz.head(nf_configuration));
+    if (!(size <= 1e8 * xscale))
+      throw std::runtime_error(fmt::format(
+          "singular Newton matrix: a correction of {:.3g} for coordinates of size {:.3g} (a "
+          "mechanism: a part that the supports and couplings do not hold, e.g. across a c0 "
+          "interface, which is a hinge)",
+          size, xscale));
+  }
+
   // Newton at the load parameter t from (x, μ); x's eliminated dofs are set here.
   NewtonOutcome newton(VecX& x, VecX& mu, double t, LoadStepStats& st) {
     set_prescribed(x, t);
@@ -217,6 +230,7 @@ struct StaticNewtonSolver::Impl {
             throw;
           }
           st.solve_seconds += seconds_since(t0);
+          check_not_singular(dz, xscale);
           for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
           if (m > 0) mu += dz.tail(m);
           // A linear problem is solved by one correction; otherwise a round-off-level correction
