@@ -303,8 +303,8 @@ TEST(KLMultipatch, IndependentCouplingRowsFollowConjecture51) {
   EXPECT_EQ(coupling_rows(false, "angle"), std::make_pair(15, 15));
 }
 
-// The perturbed Lagrange rows, not yet built for nonlinear analyses, and AF-BS in a dynamic run
-// stop the compile at the kl_interfaces entry, saying why.
+// The perturbed Lagrange rows and AF-BS in a dynamic run stop the compile at the kl_interfaces
+// entry, saying why.
 TEST(KLMultipatch, UnsupportedCouplingsAreLocatedErrors) {
   const auto error = [](const std::string& text) {
     try {
@@ -314,13 +314,13 @@ TEST(KLMultipatch, UnsupportedCouplingsAreLocatedErrors) {
     }
     return std::string("no error");
   };
+  std::string dynamic = test::example_text("kl_hinged_plate", "model.yaml");
   const std::string pl =
-      error(two_patch_roll_up("kl_interfaces: {coupling: perturbed_lagrange}\n"));
-  EXPECT_NE(pl.find("m.yaml:20: kl_interfaces (left -- right): coupling perturbed_lagrange is "
-                    "built for linear static analyses (solver.linear: true) so far"),
+      error(test::replaced(dynamic, "coupling: angle ", "coupling: perturbed_lagrange "));
+  EXPECT_NE(pl.find("kl_interfaces (left -- right): coupling perturbed_lagrange is built for "
+                    "static analyses so far"),
             std::string::npos)
       << pl;
-  std::string dynamic = test::example_text("kl_hinged_plate", "model.yaml");
   dynamic = test::replaced(dynamic, "coupling: angle ", "coupling: strip_constraints ");
   const std::string bs = error(dynamic);
   EXPECT_NE(bs.find("coupling strip_constraints is built for static analyses so far"),
@@ -352,6 +352,26 @@ TEST(KLMultipatch, NonlinearStripConstraintsRollTheTwoPatchPlateUp) {
   EXPECT_NEAR(af_bs.at90, af_d.at90, 1e-3 * af_d.at90);
   EXPECT_NEAR(af_bs.at360, af_d.at360, 1e-3 * af_d.at360);
   EXPECT_LT(phi.cwiseAbs().maxCoeff(), 1e-6);
+}
+
+// Perturbed Lagrange in the nonlinear roll-up (the strip's nonlinear forces with the compliance
+// ŝ/α₁, all rows kept): a penalty ŝ α₁ G_sᵀ f_s on the strip forces, so its error against AF-BS
+// at 360° falls like 1/α₁.
+TEST(KLMultipatch, NonlinearPerturbedLagrangeTendsToStripConstraints) {
+  const RollUp af_bs = roll_up(two_patch_roll_up("kl_interfaces: {coupling: strip_constraints}\n"));
+  ASSERT_EQ(af_bs.failure, "");
+  double previous = 1e300;
+  for (const char* alpha : {"1e-2", "1e0", "1e2"}) {
+    const RollUp pl = roll_up(two_patch_roll_up(
+        std::string("kl_interfaces: {coupling: perturbed_lagrange, beta: ") + alpha + "}\n"));
+    ASSERT_EQ(pl.failure, "") << alpha;
+    const double gap = std::abs(pl.at360 - af_bs.at360);
+    std::printf("  alpha %s: error at 360 deg %.6e (AF-BS %.6e), gap %.3e\n", alpha, pl.at360,
+                af_bs.at360, gap);
+    EXPECT_LT(gap, 0.05 * previous) << alpha;  // measured: 2.8e-5, 2.8e-7, 2.8e-9 (∝ 1/α₁)
+    previous = gap;
+  }
+  EXPECT_LT(previous, 1e-2 * af_bs.at360);
 }
 
 namespace {

@@ -465,8 +465,8 @@ TEST(KLSeams, JoinFindsSeamAndKnotLines) {
 // for a model of size 10 before the check); the load step fails with a message that names it.
 TEST(KLSeams, HingeMechanismIsASingularMatrixNotAResult) {
   for (const char* linear : {"true", "false"}) {
-    const std::string text = std::string("name: hinge\nsolver: {analysis: static, dt: 1, linear: ") +
-                             linear + R"(}
+    const std::string text =
+        std::string("name: hinge\nsolver: {analysis: static, dt: 1, linear: ") + linear + R"(}
 surfaces:
   - name: ring
     builtin: {type: annulus, inner_radius: 6, outer_radius: 10, angle: 180}

@@ -322,8 +322,8 @@ struct KLLoad {
 // docs/model-files.md "kl_interfaces", docs/theory/multipatch.md). The shared control points are
 // one node either way (C⁰, (4.36c)); c0 alone is a hinge (Fig. 6.20b), bending_strip adds the
 // penalty strip of §4.4.2 with stiffness E_s = β E, strip_constraints its forces as constraints
-// (AF-BS, §5.1; linear static analyses for now), perturbed_lagrange those rows perturbed by
-// −(1/β) λ (5.24b; linear static analyses), angle the continuity constraints on the triples
+// (AF-BS, §5.1; static analyses for now), perturbed_lagrange those rows perturbed by
+// −(1/β) λ (5.24b; static analyses), angle the continuity constraints on the triples
 // (AF-D, §5.2).
 enum class KLCoupling { c0, bending_strip, strip_constraints, perturbed_lagrange, angle };
 struct KLInterfacePair {  // the setting of the interfaces between two shells

@@ -8,8 +8,8 @@ namespace isoflex::system {
 using elements::KLKinematics;
 
 StripForceRows::StripForceRows(std::shared_ptr<const elements::KLShellPatch> strip,
-                               std::vector<int> nodes, double scale)
-    : strip_(std::move(strip)), nodes_(std::move(nodes)), scale_(scale) {}
+                               std::vector<int> nodes, double scale, double compliance)
+    : strip_(std::move(strip)), nodes_(std::move(nodes)), scale_(scale), compliance_(compliance) {}
 
 VecX StripForceRows::constraints(CRef q) const {
   return scale_ * strip_->internal_force(q, KLKinematics::nonlinear, nullptr);

@@ -10,8 +10,10 @@
 // manifold the strip's stress adds rank (its geometric stiffness), so the rows are chosen again
 // at the start of every load step, as many as are independent at the reference (Conjecture 5.1:
 // n + 1 where the patches continue flat, 3(n + 1) at a kink, less on supports; reselected(),
-// System::reselected_groups(), integrate/static_equilibrium.cpp). Static analyses only: the rows
-// are neither quadratic nor given a discrete derivative.
+// System::reselected_groups(), integrate/static_equilibrium.cpp). With a compliance c > 0 they are
+// the perturbed Lagrange rows s f_s − c λ = 0 of (5.24b) instead, all kept (the compliance makes
+// the Newton matrix regular): λ = (s/c) f_s, a penalty on the strip forces. Static analyses only:
+// the rows are neither quadratic nor given a discrete derivative.
 #include <memory>
 #include <vector>
 
@@ -23,21 +25,23 @@ namespace isoflex::system {
 class StripForceRows final : public joints::Constraint {
  public:
   // strip: the bending strip over the triples of `nodes` (three per triple, the strip's control
-  // points in order); scale s of every row.
+  // points in order); scale s of every row; compliance c (0: AF-BS).
   StripForceRows(std::shared_ptr<const elements::KLShellPatch> strip, std::vector<int> nodes,
-                 double scale);
+                 double scale, double compliance = 0.0);
 
   const std::vector<int>& nodes() const override { return nodes_; }
   int constraint_count() const override { return static_cast<int>(3 * nodes_.size()); }
   VecX constraints(CRef q_c) const override;
   MatX jacobian(CRef q_c) const override;
   void add_constraint_hessian(CRef q_c, CRef lambda, MatX& H) const override;
-  bool reselected() const override { return true; }
+  bool reselected() const override { return compliance_ == 0.0; }
+  double compliance() const override { return compliance_; }
 
  private:
   std::shared_ptr<const elements::KLShellPatch> strip_;
   std::vector<int> nodes_;
   double scale_;
+  double compliance_;
 };
 
 }  // namespace isoflex::system

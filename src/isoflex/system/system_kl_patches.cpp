@@ -117,7 +117,8 @@ void System::add_kl_patches(const model::Model& m) {
 //   start of every load step (integrate/static_equilibrium.cpp);
 // - perturbed_lagrange (§5.1.3.2): those rows perturbed, ŝ f_s − (ŝ/α₁) λ = 0 (5.24b) with
 //   α₁ = beta; all kept (the compliance makes the Newton matrix regular). Eliminating λ = α₁ f_s
-//   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1);
+//   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1), ŝ α₁ G_sᵀ f_s in a
+//   nonlinear static one (StripForceRows with a compliance);
 // - angle (AF-D, §5.2): the continuity constraints on each triple (TripleContinuityRows), in
 //   every analysis.
 // Constraint rows are scaled as in (4.42)/(5.5) in a static analysis: to the size
@@ -217,13 +218,12 @@ void System::add_kl_couplings(const model::Model& m) {
     const bool perturbed = I.coupling == model::KLCoupling::perturbed_lagrange;
     if (I.coupling == model::KLCoupling::strip_constraints || perturbed) {
       const bool statics = m.solver.analysis == model::Analysis::statics;
-      if (perturbed ? !linear : !statics)
+      if (!statics)
         compile_fail(source, what,
-                     perturbed ? "coupling perturbed_lagrange is built for linear static analyses "
-                                 "(solver.linear: true) so far"
-                               : "coupling strip_constraints is built for static analyses so far: "
-                                 "its rows, the strip's forces (5.5b), have no discrete "
-                                 "derivative for the time integrators");
+                     fmt::format("coupling {} is built for static analyses so far: its rows, the "
+                                 "strip's forces (5.5b), have no discrete derivative for the time "
+                                 "integrators",
+                                 perturbed ? "perturbed_lagrange" : "strip_constraints"));
       I.young = stiff.E;
       const auto s = strip(I.young);
       SpMat K;
@@ -236,7 +236,8 @@ void System::add_kl_couplings(const model::Model& m) {
         if (perturbed) r->set_compliance(factor / I.beta);
         rows = std::move(r);
       } else {
-        rows = std::make_shared<StripForceRows>(s, nodes, factor);
+        rows =
+            std::make_shared<StripForceRows>(s, nodes, factor, perturbed ? factor / I.beta : 0.0);
       }
     } else {
       // A linear analysis takes the rows linearized at the reference, as it does every equation.
