@@ -136,3 +136,33 @@ TEST(KLRollUpArcLength, PastTheFullCircle) {
   EXPECT_NEAR(u.z(), 8.0 / M_PI, 5e-3);
   EXPECT_NEAR(u.y(), 0.0, 1e-10);
 }
+
+// Arc length on the two-patch roll-up with constraint rows and multipliers (the bordered LU
+// step): AF-D's rows, and AF-BS's strip forces chosen at the start of each step (pinned for the
+// step, whose Newton iteration evaluates at many λ); both end at λ = 1.5 where load control to
+// 1.5 ends. Measured tip (−12.01235, 0, 2.542493) for both couplings and both methods.
+TEST(KLRollUpArcLength, TwoPatchesWithConstraintRows) {
+  for (const char* coupling : {"angle", "strip_constraints"}) {
+    std::string text = test::example_text("kl_two_patch_roll_up", "model.yaml");
+    text = test::replaced(text, "  coupling: bending_strip ",
+                          std::string("  coupling: ") + coupling + " # ");
+    text = test::replaced(text, "  t_end: 1\n", "  t_end: 1.5\n");
+    const auto load = io::read_model_string(text, "model.yaml");
+    const auto arc = io::read_model_string(
+        test::replaced(text, "  t_end: 1.5\n",
+                       "  t_end: 1.5\n  path_following: {method: arc_length, target_iterations: "
+                       "8}\n"),
+        "model.yaml");
+    const auto sys = test::static_system(arc);
+    const test::StaticRun ra = test::solve_static(sys, arc), rl = test::solve_static(sys, load);
+    ASSERT_EQ(ra.failure, "") << coupling;
+    ASSERT_EQ(rl.failure, "") << coupling;
+    EXPECT_GT(ra.steps.size(), rl.steps.size()) << coupling;
+    EXPECT_EQ(ra.steps.back().t, 1.5);
+    const Vec3 x0 = test::probe_at(sys, sys.q0(), "tip");
+    const Vec3 ua = test::probe_at(sys, ra.steps.back().q, "tip") - x0;
+    const Vec3 ul = test::probe_at(sys, rl.steps.back().q, "tip") - x0;
+    EXPECT_LT((ua - ul).norm(), 1e-8) << coupling;
+    EXPECT_NEAR(ua.z(), 2.542493, 1e-5) << coupling;
+  }
+}

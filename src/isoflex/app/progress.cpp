@@ -16,6 +16,10 @@ constexpr auto kRedrawInterval = std::chrono::milliseconds(100);
 ProgressBar::ProgressBar(double t_end, std::FILE* out)
     : t_end_(t_end), out_(out), active_(out != nullptr && isatty(fileno(out)) == 1) {}
 
+ProgressBar::ProgressBar(double t_end, double path_end, std::FILE* out) : ProgressBar(t_end, out) {
+  path_end_ = path_end;
+}
+
 ProgressBar::~ProgressBar() {
   if (active_ && line_open_) {
     std::fputc('\n', out_);
@@ -52,6 +56,7 @@ void ProgressBar::on_snapshot(const integrate::Snapshot& s) {
   }
   step_ = s.step;
   t_ = s.t;
+  path_ = s.path;
   iterations_ = s.newton_iterations;
   if (!line_open_ || now - last_draw_ >= kRedrawInterval) draw(false);
 }
@@ -67,7 +72,9 @@ void ProgressBar::on_finish() {
 void ProgressBar::draw(bool final) {
   const auto now = std::chrono::steady_clock::now();
   const double span = t_end_ - t_start_;
-  const double fraction = span > 0.0 ? (t_ - t_start_) / span : 1.0;
+  const double fraction = path_end_ != 0.0 ? path_ / path_end_
+                          : span > 0.0     ? (t_ - t_start_) / span
+                                           : 1.0;
   double eta = -1.0;
   if (final) {
     eta = 0.0;

@@ -14,6 +14,9 @@ namespace isoflex::app {
 class ProgressBar : public integrate::Observer {
  public:
   explicit ProgressBar(double t_end, std::FILE* out = stderr);
+  // Progress measured by Snapshot::path from 0 to path_end instead of t (a static run under
+  // displacement control, whose load factor t need not grow).
+  ProgressBar(double t_end, double path_end, std::FILE* out);
   // Ends a line left open (a run aborted by an exception) so that messages start on a fresh line.
   ~ProgressBar() override;
   ProgressBar(const ProgressBar&) = delete;
@@ -41,6 +44,8 @@ class ProgressBar : public integrate::Observer {
   int step_ = 0;
   double t_ = 0.0;
   double t_start_ = 0.0;
+  double path_end_ = 0.0;  // > 0: the fraction is path / path_end
+  double path_ = 0.0;
   int iterations_ = 0;
   std::chrono::steady_clock::time_point wall_start_{};
   std::chrono::steady_clock::time_point last_draw_{};

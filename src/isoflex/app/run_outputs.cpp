@@ -33,7 +33,11 @@ RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& 
   }
   if (m.output.vtk_every > 0)
     observers_.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
-  observers_.push_back(std::make_unique<ProgressBar>(m.solver.t_end, progress));
+  const bool by_path = m.solver.analysis == model::Analysis::statics &&
+                       m.solver.path.method == model::PathMethod::displacement;
+  observers_.push_back(
+      by_path ? std::make_unique<ProgressBar>(m.solver.t_end, m.solver.path.displacement, progress)
+              : std::make_unique<ProgressBar>(m.solver.t_end, progress));
 }
 
 void RunOutputs::snapshot(const integrate::Snapshot& s) {
