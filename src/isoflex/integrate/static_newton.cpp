@@ -190,15 +190,17 @@ struct StaticNewtonSolver::Impl {
 
   // A factorization of a singular matrix (a mechanism: a part held by neither supports nor
   // couplings, a c0 interface as a hinge) can succeed on round-off pivots and return a correction
-  // of the size 1/eps; no static correction is 10⁸ times the size of the model.
+  // of the size 1/eps; no static correction is 10⁸ times the size of the model (neither is one
+  // from loads far beyond any structure's strength). Without a length scale (every coordinate 0
+  // at the start) there is no test.
   void check_not_singular(const VecX& dz, double xscale) const {
     const double size = inf_norm(dz.head(nf_configuration));
-    if (!(size <= 1e8 * xscale))
+    if (xscale > 1e-290 && !(size <= 1e8 * xscale))
       throw std::runtime_error(fmt::format(
-          "singular Newton matrix: a correction of {:.3g} for coordinates of size {:.3g} (a "
-          "mechanism: a part that the supports and couplings do not hold, e.g. across a c0 "
-          "interface, which is a hinge)",
-          size, xscale));
+          "the Newton correction {:.3g} is {:.2g} times the size of the model ({:.3g}): a singular "
+          "Newton matrix — a mechanism, a part that the supports and couplings do not hold (a c0 "
+          "interface is a hinge) — or loads far beyond the structure's strength",
+          size, size / xscale, xscale));
   }
 
   // Newton at the load parameter t from (x, μ); x's eliminated dofs are set here.
@@ -607,20 +609,63 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
   const auto length = [&](const VecX& dz, double dlam) {
     return std::sqrt(dz.head(nf_configuration).squaredNorm() + w * dlam * dlam);
   };
-  const double dl_first =
-      p.arc_length > 0.0 ? p.arc_length : s.t_end / s.steps * length(dz_prev, 1.0);
-  const double dl0 = p.max_arc_length > 0.0 ? std::min(dl_first, p.max_arc_length) : dl_first;
-  if (!(dl0 > 0.0) || !std::isfinite(dl0))
+  if (!(length(dz_prev, 1.0) > 0.0) || !std::isfinite(length(dz_prev, 1.0)))
     throw NewtonFailure(fmt::format(
         "static arc length: the tangent at the reference has no length ({:.3g}): the loads do not "
         "move the free coordinates",
-        dl0));
-  const double dl_min = dl0 / std::ldexp(1.0, s.max_cuts);
-  const double dl_max = p.max_arc_length > 0.0 ? p.max_arc_length : 10.0 * dl0;
-  double dl = dl0, arc = 0.0;
+        length(dz_prev, 1.0)));
+  double arc = 0.0;
   int cuts = 0;
   Carried carried;
   const int analyses0 = cholesky.analyses() + lu.analyses();
+  if (!(p.arc_length > 0.0)) {
+    // The first step by load control over Δλ = dt (halved on failure): its increment is the first
+    // secant and its length the first arc, so that the first arc does not leap along the linear
+    // tangent off a strongly curved path (on a director beam's roll-up the tangent's length led
+    // to a kinked equilibrium with 300 times the strain energy).
+    double dlam = std::min(s.t_end / s.steps, s.t_end);
+    for (;;) {
+      LoadStepStats st;
+      st.step = 1;
+      VecX x1 = x, mu1 = mu;
+      const auto t0 = Clock::now();
+      const NewtonOutcome out = newton(x1, mu1, dlam, st);
+      st.wall_seconds = seconds_since(t0);
+      if (!out.converged) {
+        carried.add(st);
+        if (cuts >= s.max_cuts)
+          throw NewtonFailure(failure_message(
+              fmt::format("static arc length: the first step (load control) did not converge at "
+                          "load factor {:.6g}{}",
+                          dlam, cuts > 0 ? fmt::format(", after {} halvings", cuts) : ""),
+              out, s.residual_tolerance));
+        dlam *= 0.5;
+        ++cuts;
+        continue;
+      }
+      dz_prev = unknowns_difference(x1, mu1, x, mu);
+      dlam_prev = dlam;
+      arc = length(dz_prev, dlam);
+      st.t = st.dt = dlam;
+      st.path = arc;
+      st.iterations = out.iterations;
+      st.residual = out.residual;
+      st.cuts = cuts;
+      carried.take(st);
+      cuts = 0;
+      x = std::move(x1);
+      mu = std::move(mu1);
+      lambda = dlam;
+      res.steps.push_back(std::move(st));
+      if (observer) observer(res.steps.back(), x);
+      break;
+    }
+  }
+  const double dl_first = p.arc_length > 0.0 ? p.arc_length : arc;
+  const double dl0 = p.max_arc_length > 0.0 ? std::min(dl_first, p.max_arc_length) : dl_first;
+  const double dl_min = dl0 / std::ldexp(1.0, s.max_cuts);
+  const double dl_max = p.max_arc_length > 0.0 ? p.max_arc_length : 10.0 * dl0;
+  double dl = dl0;
   while (lambda < s.t_end) {
     if (static_cast<int>(res.steps.size()) >= p.max_steps) {
       res.stopped = fmt::format(

@@ -38,8 +38,9 @@
 //   • arc length (Crisfield 1981): ‖Δu‖² + ψ² s Δλ² = Δl² per step, Δu the increment of the free
 //     configuration entries, s = ‖δu_λ‖² of the first step (ψ = 0: the cylindrical arc length);
 //     δλ the root of the quadratic whose increment turns least (Crisfield's angle criterion);
-//     predictor: the tangent in the first step, then the secant of the last increment scaled to
-//     Δl, which follows the path around limit points; Δl scaled by √(target/iterations) after
+//     the first step by load control over Δλ = t_end/steps, its length Δl₀ (or, with a given Δl₀,
+//     along the tangent); then the secant of the last increment scaled to Δl as predictor, which
+//     follows the path around limit points; Δl scaled by √(target/iterations) after
 //     every step (within ½…2 per step and Δl₀/2^max_cuts … max_arc_length), halved after a
 //     failure. It
 //     ends where λ first reaches t_end (that step is redone at λ = t_end exactly, by load control
@@ -96,9 +97,8 @@ struct PathSettings {
   // displacement: the control c·(x − X) = displacement · t / t_end (entries of c by index of x)
   std::vector<std::pair<int, double>> control_vector;
   double displacement = 0.0;
-  // arc length: Δl of the first step (0: the length of the tangent predictor over the first
-  // nominal load increment t_end / steps), the load weight ψ, the Newton iterations a step aims
-  // at, and the most steps
+  // arc length: Δl of the first step (0: the first step by load control over t_end / steps, its
+  // length Δl₀), the load weight ψ, the Newton iterations a step aims at, and the most steps
   double arc_length = 0.0;
   double max_arc_length = 0.0;  // the longest step, the first included (0: 10 Δl₀)
   double load_weight = 0.0;
