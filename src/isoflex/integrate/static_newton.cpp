@@ -618,6 +618,26 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
   int cuts = 0;
   Carried carried;
   const int analyses0 = cholesky.analyses() + lu.analyses();
+  // An accepted step: its increment is the next secant, its length adds to the path.
+  const auto accept = [&](VecX& x_new, VecX& mu_new, double lambda_new, const NewtonOutcome& out,
+                          LoadStepStats& st) {
+    dz_prev = unknowns_difference(x_new, mu_new, x, mu);
+    dlam_prev = lambda_new - lambda;
+    arc += length(dz_prev, dlam_prev);
+    st.t = lambda_new;
+    st.dt = dlam_prev;
+    st.path = arc;
+    st.iterations = out.iterations;
+    st.residual = out.residual;
+    st.cuts = cuts;
+    carried.take(st);
+    cuts = 0;
+    x = std::move(x_new);
+    mu = std::move(mu_new);
+    lambda = lambda_new;
+    res.steps.push_back(std::move(st));
+    if (observer) observer(res.steps.back(), x);
+  };
   if (!(p.arc_length > 0.0)) {
     // The first step by load control over Δλ = dt (halved on failure): its increment is the first
     // secant and its length the first arc, so that the first arc does not leap along the linear
@@ -643,21 +663,7 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
         ++cuts;
         continue;
       }
-      dz_prev = unknowns_difference(x1, mu1, x, mu);
-      dlam_prev = dlam;
-      arc = length(dz_prev, dlam);
-      st.t = st.dt = dlam;
-      st.path = arc;
-      st.iterations = out.iterations;
-      st.residual = out.residual;
-      st.cuts = cuts;
-      carried.take(st);
-      cuts = 0;
-      x = std::move(x1);
-      mu = std::move(mu1);
-      lambda = dlam;
-      res.steps.push_back(std::move(st));
-      if (observer) observer(res.steps.back(), x);
+      accept(x1, mu1, dlam, out, st);
       break;
     }
   }
@@ -717,22 +723,7 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
       ++cuts;
       continue;
     }
-    dz_prev = unknowns_difference(x_try, mu_try, x, mu);
-    dlam_prev = lambda_try - lambda;
-    arc += length(dz_prev, dlam_prev);
-    st.t = lambda_try;
-    st.dt = dlam_prev;
-    st.path = arc;
-    st.iterations = out.iterations;
-    st.residual = out.residual;
-    st.cuts = cuts;
-    carried.take(st);
-    cuts = 0;
-    x = std::move(x_try);
-    mu = std::move(mu_try);
-    lambda = lambda_try;
-    res.steps.push_back(std::move(st));
-    if (observer) observer(res.steps.back(), x);
+    accept(x_try, mu_try, lambda_try, out, st);
     if (last) break;
     const double growth = std::sqrt(static_cast<double>(p.target_iterations) /
                                     std::max(1, res.steps.back().iterations));
