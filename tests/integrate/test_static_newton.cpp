@@ -386,6 +386,105 @@ TEST(StaticNewton, MultiplierMatchesElimination) {
   EXPECT_GT((ra.x - net.X).norm(), 0.1);
 }
 
+// Tied rows (master–slave elimination, LinearConstraints::tied) give the equilibrium of the same
+// rows as multipliers, with 2 unknowns fewer per row; a chain of rows through one node, a row
+// on an eliminated node with a prescribed motion and a row implied by two others included.
+TEST(StaticNewton, TiedRowsMatchMultiplierRows) {
+  TrussNet net;
+  net.F = 0.05;  // displacements of 0.1 the bars: one equilibrium (at 0.5 there are several)
+  const StaticProblem pb = net.problem();
+  const Vec3 ubar(0.02, -0.04, 0.06);
+  using Row = std::vector<std::pair<int, double>>;
+  std::vector<Row> rows;
+  const auto dof = [&](int i, int j, int k) { return 3 * net.node(i, j) + k; };
+  for (int k = 0; k < 3; ++k) {
+    // u(1,1) = (u(0,1) + u(2,1)) / 2; then u(2,1) = 0.6 u(3,1) + 0.4 u(3,2): a chain through
+    // (2,1).
+    rows.push_back({{dof(1, 1, k), 1.0}, {dof(0, 1, k), -0.5}, {dof(2, 1, k), -0.5}});
+    rows.push_back({{dof(2, 1, k), 1.0}, {dof(3, 1, k), -0.6}, {dof(3, 2, k), -0.4}});
+    // Implied by the two above.
+    rows.push_back(
+        {{dof(1, 1, k), 2.0}, {dof(0, 1, k), -1.0}, {dof(3, 1, k), -0.6}, {dof(3, 2, k), -0.4}});
+  }
+  // z of (1,2) follows the prescribed corner (0,2): u_z(1,2) = 0.7 u_z(0,2).
+  rows.push_back({{dof(1, 2, 2), 1.0}, {dof(0, 2, 2), -0.7}});
+  LinearConstraints tied, mult;
+  for (LinearConstraints* c : {&tied, &mult}) {
+    for (int k = 0; k < 3; ++k) c->eliminate(dof(0, 0, k));
+    for (int k = 0; k < 3; ++k) c->eliminate(dof(0, 2, k), [=](double t) { return ubar(k) * t; });
+  }
+  tied.tied = rows;
+  // The independent rows as multipliers: each of the first two per component, and the last.
+  std::vector<Eigen::Triplet<double>> trip;
+  int m = 0;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (r + 1 < rows.size() && r % 3 == 2) continue;
+    for (const auto& [i, a] : rows[r]) trip.emplace_back(m, i, a);
+    ++m;
+  }
+  mult.C.resize(m, pb.reference.size());
+  mult.C.setFromTriplets(trip.begin(), trip.end());
+  // The last row on a prescribed dof: C (x − X) = d with d = 0.7 ū_z t moved to the right.
+  mult.C.coeffRef(m - 1, dof(0, 2, 2)) = 0.0;
+  mult.C.prune(0.0);
+  mult.rhs = [=](double t) {
+    VecX d = VecX::Zero(m);
+    d(m - 1) = 0.7 * ubar(2) * t;
+    return d;
+  };
+  StaticSettings set;
+  set.steps = 3;
+  StaticNewtonSolver a(pb, tied, set), b(pb, mult, set);
+  EXPECT_EQ(a.dofs().slaves.size(), 7u);
+  EXPECT_EQ(a.dofs().dropped_tied_rows, 3);
+  EXPECT_EQ(a.dofs().n_free() + 7, b.dofs().n_free());
+  const StaticResult ra = a.solve(), rb = b.solve();
+  EXPECT_LT((ra.x - rb.x).lpNorm<Eigen::Infinity>(), 1e-10);
+  EXPECT_GT((ra.x - net.X).norm(), 0.05);
+  for (const Row& r : rows) {
+    double v = 0.0, w = 0.0;
+    for (const auto& [i, c] : r) v += c * (ra.x(i) - net.X(i));
+    for (const auto& [i, c] : r) w += c * (rb.x(i) - net.X(i));
+    EXPECT_LT(std::abs(v), 1e-13);
+    EXPECT_LT(std::abs(w), 1e-13);
+  }
+  // Equilibrium of the tied solution: the reduced residual Tᵀ r vanishes.
+  ResidualEvaluation ev;
+  pb.evaluate(ra.x, 1.0, false, ev);
+  EXPECT_LT(a.dofs().reduce(ev.r).norm(), 1e-9);
+
+  EXPECT_NEAR(ra.x(dof(1, 2, 2)) - net.X(dof(1, 2, 2)), 0.7 * ubar(2), 1e-14);
+}
+
+// The DofMap's T: reduce() is Tᵀ and expansion() its rows; set_slaves() satisfies the rows.
+TEST(StaticNewton, DofMapTiedRows) {
+  const std::vector<std::vector<std::pair<int, double>>> rows = {
+      {{0, 1.0}, {1, -3.0}, {2, 1.0}}, {{1, 1.0}, {3, -1.0}, {5, 2.0}}, {{4, 1.0}, {5, -1.0}}};
+  const DofMap m = DofMap::build(6, {5}, rows);
+  ASSERT_EQ(m.slaves.size(), 3u);
+  EXPECT_EQ(m.dropped_tied_rows, 0);
+  EXPECT_EQ(m.n_free(), 2);
+  MatX T = MatX::Zero(6, m.n_free());
+  for (int i = 0; i < 6; ++i)
+    for (const auto& [f, w] : m.expansion(i)) T(i, f) = w;
+  std::mt19937 g(5);
+  std::normal_distribution<double> N;
+  VecX r(6), X(6), x(6);
+  for (int i = 0; i < 6; ++i) {
+    r(i) = N(g);
+    X(i) = N(g);
+    x(i) = N(g);
+  }
+  EXPECT_LT((m.reduce(r) - T.transpose() * r).norm(), 1e-14);
+  m.set_slaves(x, X);
+  for (const auto& row : rows) {
+    double v = 0.0;
+    for (const auto& [i, c] : row) v += c * (x(i) - X(i));
+    EXPECT_LT(std::abs(v), 1e-14);
+  }
+  EXPECT_THROW(DofMap::build(3, {}, {{{3, 1.0}}}), std::invalid_argument);
+}
+
 TEST(StaticNewton, RejectsBadInput) {
   const SpringChain chain;
   StaticSettings set;

@@ -187,6 +187,13 @@ void print_kl_interfaces(const system::System& sys, std::FILE* out) {
   for (const std::string& line : system::kl_interface_report(sys)) fmt::print(out, "{}\n", line);
 }
 
+// The slave coordinates of the System's tied rows (AF-D in a static analysis).
+int tied_coordinates(const system::System& sys) {
+  const system::LinearConstraints& lin = sys.linear_constraints();
+  if (lin.tied.empty()) return 0;
+  return static_cast<int>(system::DofMap::build(sys.n(), lin.eliminated, lin.tied).slaves.size());
+}
+
 // A static analysis: load steps, the linear conditions and the unknowns.
 void print_static_check(const system::System& sys, const model::Solver& solver, std::FILE* out) {
   const integrate::StaticEquilibrium eq(sys, solver);
@@ -212,6 +219,11 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
   fmt::print(out, "eliminated       {}  (fixed coordinates)\n", eq.eliminated());
   fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges)\n",
              eq.multipliers());
+  if (eq.tied() > 0 || eq.dropped_tied_rows() > 0)
+    fmt::print(out,
+               "tied             {}  (slave coordinates of the straight triples' G¹ rows (5.36), "
+               "eliminated by substitution; {} rows implied by the others)\n",
+               eq.tied(), eq.dropped_tied_rows());
   fmt::print(out,
              "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
              eq.unknowns());
@@ -352,12 +364,16 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                rows_by_joint(sys, sys.redundant_rows()), sys.cut_rank(), sys.cut_rank_qr());
   fmt::print(out, "\n");
   const system::LinearConstraints& lin = sys.linear_constraints();
-  if (lin.eliminated.empty() && lin.multipliers() == 0)
+  if (lin.eliminated.empty() && lin.multipliers() == 0 && lin.tied.empty())
     fmt::print(out, "dof              {}  (n - m)\n", sys.n() - sys.m_selected());
-  else  // a static analysis with supports as linear conditions
+  else if (lin.tied.empty())  // a static analysis with supports as linear conditions
     fmt::print(
         out, "dof              {}  (n - m - eliminated - multipliers)\n",
         sys.n() - sys.m_selected() - static_cast<int>(lin.eliminated.size()) - lin.multipliers());
+  else
+    fmt::print(out, "dof              {}  (n - m - eliminated - multipliers - tied)\n",
+               sys.n() - sys.m_selected() - static_cast<int>(lin.eliminated.size()) -
+                   lin.multipliers() - tied_coordinates(sys));
   fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
   if (l->model.solver.analysis == model::Analysis::statics)
     print_static_check(sys, l->model.solver, out);
@@ -435,7 +451,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.n_coordinates = sys.n();
   sum.n_constraints = sys.m_selected() +
                       static_cast<int>(sys.linear_constraints().eliminated.size()) +
-                      sys.linear_constraints().multipliers();
+                      sys.linear_constraints().multipliers() + tied_coordinates(sys);
   sum.n_redundant_constraints = static_cast<int>(sys.redundant_rows().size());
   sum.dt = m.solver.dt;
   sum.t_end = m.solver.t_end;

@@ -209,11 +209,11 @@ VecX StaticEquilibrium::residual(double t, const VecX& x, MatX* J) const {
 double StaticEquilibrium::newton_matrix_condition(double t, const VecX& x) const {
   MatX J;
   residual(t, x, &J);
-  const system::DofMap map =
-      system::DofMap::build(static_cast<int>(J.rows()), sys_.linear_constraints().eliminated);
-  MatX Jf(map.n_free(), map.n_free());
-  for (int j = 0; j < map.n_free(); ++j)
-    for (int i = 0; i < map.n_free(); ++i) Jf(i, j) = J(map.free[i], map.free[j]);
+  const system::DofMap& map = solver_.dofs();
+  MatX T = MatX::Zero(J.rows(), map.n_free());  // x − X = T u (+ prescribed)
+  for (int i = 0; i < static_cast<int>(J.rows()); ++i)
+    for (const auto& [f, w] : map.expansion(i)) T(i, f) = w;
+  const MatX Jf = T.transpose() * J * T;
   return solve::condition_number(Jf);
 }
 

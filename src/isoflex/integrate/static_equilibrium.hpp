@@ -50,6 +50,10 @@ class StaticEquilibrium {
   int unknowns() const;
   int eliminated() const { return static_cast<int>(sys_.linear_constraints().eliminated.size()); }
   int multipliers() const { return sys_.linear_constraints().multipliers(); }
+  // The slave coordinates of the tied rows (AF-D's straight triples) and the rows dropped as
+  // implied by the others.
+  int tied() const { return static_cast<int>(solver_.dofs().slaves.size()); }
+  int dropped_tied_rows() const { return solver_.dofs().dropped_tied_rows; }
   const StaticSettings& settings() const { return solver_.settings(); }
   bool linear() const { return linear_; }
   // The load stepping from (q₀, 0); observer(stats, x) after every accepted load step with

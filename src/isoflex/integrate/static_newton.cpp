@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -39,7 +40,12 @@ struct StaticNewtonSolver::Impl {
 
   // Reduction of K into the Newton matrix A (nf + m square), kept for K's pattern.
   std::vector<int> key_outer, key_inner;
-  std::vector<int> value_map;       // K's value k → A's value index, −1 if eliminated
+  std::vector<int> value_map;  // K's value k → A's value index, −1 if not free × free
+  struct TiedEntry {
+    int k, a;  // K's value k adds w K_k to A's value a (a slave's row or column: Tᵀ K T)
+    double w;
+  };
+  std::vector<TiedEntry> tied_entries;
   std::vector<double> base_values;  // A's values with the C blocks, zeros for K
   SpMat A;
   bool have_reduction = false;
@@ -62,6 +68,7 @@ struct StaticNewtonSolver::Impl {
       const auto& f = cons.eliminated_value[k];
       x(i) = problem.reference(i) + (f ? f(t) : 0.0);
     }
+    dofs.set_slaves(x, problem.reference);
   }
 
   VecX constraint_rhs(double t) const {
@@ -76,16 +83,35 @@ struct StaticNewtonSolver::Impl {
   void build_reduction(const SpMat& K) {
     key_outer.assign(K.outerIndexPtr(), K.outerIndexPtr() + K.outerSize() + 1);
     key_inner.assign(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
+    std::vector<std::vector<std::pair<int, double>>> expansion(static_cast<std::size_t>(n));
+    for (const auto& s : dofs.slaves)
+      expansion[static_cast<std::size_t>(s.dof)] = dofs.expansion(s.dof);
+    // Calls f(k, free row, free column, weight) for each of K's values and the entries of
+    // Tᵀ K T it adds to.
+    const auto for_each_entry = [&](auto&& f) {
+      for (int j = 0; j < K.outerSize(); ++j) {
+        const int fj = dofs.full_to_free[static_cast<std::size_t>(j)];
+        const auto& ej = expansion[static_cast<std::size_t>(j)];
+        if (fj < 0 && ej.empty()) continue;
+        for (int k = K.outerIndexPtr()[j]; k < K.outerIndexPtr()[j + 1]; ++k) {
+          const int i = K.innerIndexPtr()[k];
+          const int fi = dofs.full_to_free[static_cast<std::size_t>(i)];
+          if (fi >= 0 && fj >= 0) {
+            f(k, fi, fj, 0.0);
+            continue;
+          }
+          const auto one_i = std::pair<int, double>(fi, 1.0),
+                     one_j = std::pair<int, double>(fj, 1.0);
+          const auto& ei = expansion[static_cast<std::size_t>(i)];
+          for (const auto& [ri, wi] : fi >= 0 ? std::span(&one_i, 1) : std::span(ei))
+            for (const auto& [cj, wj] : fj >= 0 ? std::span(&one_j, 1) : std::span(ej))
+              f(k, ri, cj, wi * wj);
+        }
+      }
+    };
     std::vector<Eigen::Triplet<double>> trip;
     trip.reserve(static_cast<std::size_t>(K.nonZeros() + 2 * Cf.nonZeros()));
-    for (int j = 0; j < K.outerSize(); ++j) {
-      const int fj = dofs.full_to_free[static_cast<std::size_t>(j)];
-      if (fj < 0) continue;
-      for (SpMat::InnerIterator it(K, j); it; ++it) {
-        const int fi = dofs.full_to_free[static_cast<std::size_t>(it.row())];
-        if (fi >= 0) trip.emplace_back(fi, fj, 0.0);
-      }
-    }
+    for_each_entry([&](int, int fi, int fj, double) { trip.emplace_back(fi, fj, 0.0); });
     for (int j = 0; j < Cf.outerSize(); ++j)
       for (SpMat::InnerIterator it(Cf, j); it; ++it) {
         trip.emplace_back(nf + static_cast<int>(it.row()), j, it.value());
@@ -96,18 +122,16 @@ struct StaticNewtonSolver::Impl {
     A.makeCompressed();
     base_values.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
     value_map.assign(static_cast<std::size_t>(K.nonZeros()), -1);
-    for (int j = 0; j < K.outerSize(); ++j) {
-      const int fj = dofs.full_to_free[static_cast<std::size_t>(j)];
-      if (fj < 0) continue;
+    tied_entries.clear();
+    for_each_entry([&](int k, int fi, int fj, double w) {
       const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[fj];
       const int* end = A.innerIndexPtr() + A.outerIndexPtr()[fj + 1];
-      for (int k = K.outerIndexPtr()[j]; k < K.outerIndexPtr()[j + 1]; ++k) {
-        const int fi = dofs.full_to_free[static_cast<std::size_t>(K.innerIndexPtr()[k])];
-        if (fi < 0) continue;
-        const int* p = std::lower_bound(begin, end, fi);
-        value_map[static_cast<std::size_t>(k)] = static_cast<int>(p - A.innerIndexPtr());
-      }
-    }
+      const int a = static_cast<int>(std::lower_bound(begin, end, fi) - A.innerIndexPtr());
+      if (w == 0.0)
+        value_map[static_cast<std::size_t>(k)] = a;
+      else
+        tied_entries.push_back({k, a, w});
+    });
     have_reduction = true;
   }
 
@@ -133,6 +157,7 @@ struct StaticNewtonSolver::Impl {
     const double* kv = K.valuePtr();
     for (std::size_t k = 0; k < value_map.size(); ++k)
       if (value_map[k] >= 0) a[value_map[k]] += kv[k];
+    for (const TiedEntry& e : tied_entries) a[e.a] += e.w * kv[e.k];
   }
 
   // The single place where the Newton matrix is factorized (to be swapped for another solver).
@@ -173,16 +198,11 @@ struct StaticNewtonSolver::Impl {
   // Residual of the reduced/bordered system at (x, μ) from ev.r; also the convergence scale.
   VecX reduced_residual(const VecX& x, const VecX& mu, double t, double& scale) const {
     VecX R(nf + m);
-    VecX ctmu = VecX::Zero(n);
-    if (m > 0) ctmu = cons.C.transpose() * mu;
-    double reactions = inf_norm(ctmu);
-    for (int i = 0; i < n; ++i) {
-      const int fi = dofs.full_to_free[static_cast<std::size_t>(i)];
-      if (fi >= 0)
-        R(fi) = ev.r(i) + ctmu(i);
-      else
-        reactions = std::max(reactions, std::abs(ev.r(i)));
-    }
+    VecX r = ev.r;
+    if (m > 0) r += cons.C.transpose() * mu;
+    double reactions = m > 0 ? inf_norm(r - ev.r) : 0.0;
+    for (int i : cons.eliminated) reactions = std::max(reactions, std::abs(ev.r(i)));
+    R.head(nf) = dofs.reduce(r);
     if (m > 0) R.tail(m) = cons.C * (x - problem.reference) - constraint_rhs(t);
     scale = std::max({settings.force_floor, ev.load_norm, reactions});
     return R;
@@ -233,8 +253,7 @@ struct StaticNewtonSolver::Impl {
           }
           st.solve_seconds += seconds_since(t0);
           check_not_singular(dz, xscale);
-          for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
-          if (m > 0) mu += dz.tail(m);
+          add_to_unknowns(x, mu, dz);
           // A linear problem is solved by one correction; otherwise a round-off-level correction
           // ends the iteration (its error is its square).
           return problem.linear ||
@@ -258,6 +277,7 @@ struct StaticNewtonSolver::Impl {
   // x and μ moved by δz (free dofs and multipliers).
   void add_to_unknowns(VecX& x, VecX& mu, const VecX& dz) const {
     for (int k = 0; k < nf; ++k) x(dofs.free[static_cast<std::size_t>(k)]) += dz(k);
+    dofs.set_slaves(x, problem.reference);
     if (m > 0) mu += dz.tail(m);
   }
 
@@ -411,7 +431,7 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
       std::adjacent_find(I.cons.eliminated.begin(), I.cons.eliminated.end()) !=
           I.cons.eliminated.end())
     throw std::invalid_argument("LinearConstraints: eliminated dofs not sorted and unique");
-  I.dofs = DofMap::build(I.n, I.cons.eliminated);
+  I.dofs = DofMap::build(I.n, I.cons.eliminated, I.cons.tied);
   I.nf = I.dofs.n_free();
   if (I.problem.configuration_size > I.n)
     throw std::invalid_argument("StaticProblem: configuration_size larger than x");
@@ -429,12 +449,10 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
   I.cons.C.makeCompressed();
   // C on the free columns.
   std::vector<Eigen::Triplet<double>> trip;
-  for (int j = 0; j < I.cons.C.outerSize(); ++j) {
-    const int fj = I.dofs.full_to_free[static_cast<std::size_t>(j)];
-    if (fj < 0) continue;
-    for (SpMat::InnerIterator it(I.cons.C, j); it; ++it)
-      if (it.value() != 0.0) trip.emplace_back(static_cast<int>(it.row()), fj, it.value());
-  }
+  for (int j = 0; j < I.cons.C.outerSize(); ++j)
+    for (const auto& [fj, w] : I.dofs.expansion(j))
+      for (SpMat::InnerIterator it(I.cons.C, j); it; ++it)
+        if (it.value() != 0.0) trip.emplace_back(static_cast<int>(it.row()), fj, w * it.value());
   I.Cf.resize(I.m, I.nf);
   I.Cf.setFromTriplets(trip.begin(), trip.end());
   I.Cf.makeCompressed();
@@ -468,8 +486,7 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
     if (i < 0 || i >= I.n)
       throw std::invalid_argument(
           fmt::format("StaticNewtonSolver: control vector entry {} outside 0..{}", i, I.n - 1));
-    const int fi = I.dofs.full_to_free[static_cast<std::size_t>(i)];
-    if (fi >= 0) I.control(fi) += c;
+    for (const auto& [fi, w] : I.dofs.expansion(i)) I.control(fi) += w * c;
   }
   if (I.control.lpNorm<Eigen::Infinity>() == 0.0)
     throw std::invalid_argument(

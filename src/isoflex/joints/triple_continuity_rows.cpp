@@ -36,6 +36,16 @@ Row9 kink_gradient(const Legs& L, double p2, double p3) {
 
 }  // namespace
 
+std::optional<std::array<double, 3>> TripleContinuityRows::straight_rows(const Vec3& xa,
+                                                                         const Vec3& xs,
+                                                                         const Vec3& xb) {
+  const Vec3 a = xs - xa, b = xb - xs;
+  const double la = a.norm(), lb = b.norm();
+  if (!(a.cross(b).norm() <= straight_tolerance * la * lb && a.dot(b) > 0.0)) return std::nullopt;
+  const double c = la / lb;
+  return std::array<double, 3>{-1.0, 1.0 + c, -c};
+}
+
 TripleContinuityRows::TripleContinuityRows(std::vector<int> nodes, const VecX& X, double scale)
     : nodes_(std::move(nodes)), scale_(scale) {
   if (nodes_.size() % 3 != 0 || X.size() != 3 * static_cast<Eigen::Index>(nodes_.size()))
@@ -50,8 +60,10 @@ TripleContinuityRows::TripleContinuityRows(std::vector<int> nodes, const VecX& X
       throw std::invalid_argument("TripleContinuityRows: triple " + std::to_string(k) +
                                   " has a leg of zero length");
     Triple t{};
-    t.straight = L.a.cross(L.b).norm() <= straight_tolerance * la * lb && L.a.dot(L.b) > 0.0;
-    t.c = t.straight ? la / lb : L.a.dot(L.b) / (la * lb);
+    const auto tied =
+        straight_rows(X.segment<3>(9 * k), X.segment<3>(9 * k + 3), X.segment<3>(9 * k + 6));
+    t.straight = tied.has_value();
+    t.c = t.straight ? -(*tied)[2] : L.a.dot(L.b) / (la * lb);
     t.phi0 = t.straight ? 0.0 : L.a.dot(L.b) - t.c * la * lb;
     t.row = rows_;
     for (int i = 0; i < 3; ++i) t.X[i] = X.segment<3>(9 * k + 3 * i);

@@ -16,6 +16,8 @@
 // Every row is multiplied by `scale` (the row scaling of (4.42)/(5.5), chosen by the caller) and
 // is 0 exactly at the reference. The remaining length of the legs is free (Remark 5.8: the
 // bending strip's rows preserve it as well, AF-D does not).
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "isoflex/joints/constraint.hpp"
@@ -36,6 +38,10 @@ class TripleContinuityRows final : public Constraint {
   MatX discrete_jacobian(CRef q_a, CRef q_b) const override;
 
   int kinks() const { return kinks_; }
+  // A straight triple's coefficients (−1, 1 + c, −c) of its rows (5.36) on (x_a, x_s, x_b), the
+  // same for each component; none for a kinked one.
+  static std::optional<std::array<double, 3>> straight_rows(const Vec3& xa, const Vec3& xs,
+                                                            const Vec3& xb);
   // A triple is straight when the angle between its legs is below this (radians, as a sine).
   static constexpr double straight_tolerance = 1e-8;
 

@@ -29,14 +29,21 @@ std::string coupling_text(const System& sys, const KLInterfaceInstance& I) {
       break;
   }
   const int c = I.constraint_index;
+  const std::string tied =
+      I.tied_triples > 0
+          ? fmt::format("{} straight triples' G¹ rows (5.36) eliminated by substitution",
+                        I.tied_triples)
+          : std::string();
+  if (c < 0 && !tied.empty()) return fmt::format("angle ({})", tied);
   if (c < 0) return "none (no triple: every one degenerate)";
   const auto& rows = *sys.nary_constraints()[static_cast<std::size_t>(c)].constraint;
   if (I.coupling == model::KLCoupling::perturbed_lagrange)
     return fmt::format("perturbed_lagrange (α = {:g}, {} rows, all kept)", I.beta,
                        rows.constraint_count());
-  return fmt::format("{} ({} rows, {} independent{})",
+  return fmt::format("{} ({}{} rows{}, {} independent{})",
                      I.coupling == model::KLCoupling::angle ? "angle" : "strip_constraints",
-                     rows.constraint_count(), sys.independent_rows_of(c),
+                     tied.empty() ? "" : tied + "; ", rows.constraint_count(),
+                     tied.empty() ? "" : " on the kinked triples", sys.independent_rows_of(c),
                      rows.reselected() ? " at the reference, chosen again in every load step" : "");
 }
 

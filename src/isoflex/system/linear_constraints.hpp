@@ -1,11 +1,14 @@
 #pragma once
 // Linear conditions on the coordinates of a system, the form Dirichlet conditions take
-// (docs/theory/kl-static.md §2): eliminated coordinates x_i = X_i + ū_i(t) and multiplier rows
-// C (x − X) = d(t) with a constant C. The static solver (integrate/static_newton.hpp) removes the
-// eliminated coordinates from its unknowns and borders its matrix with C.
+// (docs/theory/kl-static.md §2): eliminated coordinates x_i = X_i + ū_i(t), multiplier rows
+// C (x − X) = d(t) with a constant C, and tied rows Σ a_j (x_j − X_j) = 0 eliminated by
+// master–slave substitution (AF-D's G¹ rows on straight triples, IGA-thesis (5.36)). The static
+// solver (integrate/static_newton.hpp) removes the eliminated and the slave coordinates from its
+// unknowns (x = X + T u_r + prescribed, its matrix Tᵀ K T) and borders its matrix with C.
 #include <Eigen/SparseCore>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -23,19 +26,42 @@ struct LinearConstraints {
   std::function<VecX(double)> rhs;
   // Labels of the multiplier rows (for messages), optional.
   std::vector<std::string> row_labels;
+  // Tied rows: each a list of (dof, a_j) with Σ a_j (x_j − X_j) = 0. Independent or not: the
+  // DofMap picks a slave per row and drops the rows that the others imply.
+  std::vector<std::vector<std::pair<int, double>>> tied;
 
   int multipliers() const { return static_cast<int>(C.rows()); }
   // Adds an eliminated dof (keeps the list sorted; a dof already eliminated is replaced).
   void eliminate(int dof, std::function<double(double)> value = {});
 };
 
-// Full ↔ reduced dofs.
+// Full ↔ reduced dofs: x_i − X_i = Σ_j T_ij u_j + (prescribed), T the identity on the free dofs
+// and, on a slave, the combination of free and eliminated dofs that its tied rows give.
 struct DofMap {
+  struct Slave {
+    int dof;
+    std::vector<std::pair<int, double>> terms;  // (full dof, free or eliminated; coefficient)
+  };
   int n_full = 0;
   std::vector<int> free;          // free full indices, ascending
-  std::vector<int> full_to_free;  // −1 for eliminated dofs
-  static DofMap build(int n_full, const std::vector<int>& eliminated);
+  std::vector<int> full_to_free;  // −1 for eliminated and slave dofs
+  std::vector<Slave> slaves;      // by dof
+  int dropped_tied_rows = 0;      // tied rows implied by the others (or by the eliminated dofs)
+
+  // Gaussian elimination of the tied rows over the dofs not eliminated, row by row with the
+  // largest remaining coefficient as the pivot (partial pivoting); a row whose remaining
+  // coefficients are round-off (≤ 1e-12 of its largest) is implied by the others and dropped.
+  // Throws std::invalid_argument for a dof outside [0, n_full).
+  static DofMap build(int n_full, const std::vector<int>& eliminated,
+                      const std::vector<std::vector<std::pair<int, double>>>& tied = {});
   int n_free() const { return static_cast<int>(free.size()); }
+  // x's slave entries from its free and eliminated ones (X the reference).
+  void set_slaves(VecX& x, const VecX& X) const;
+  // Tᵀ r on the free dofs: a slave's entry added to its free terms with their coefficients.
+  VecX reduce(const VecX& r) const;
+  // The reduced dofs (free index, weight) that full dof i stands for: {(f, 1)} when free, its
+  // free terms when a slave, none when eliminated.
+  std::vector<std::pair<int, double>> expansion(int i) const;
 };
 
 }  // namespace isoflex::system

@@ -111,6 +111,9 @@ struct KLInterfaceInstance {
   // strip_constraints, angle: its rows, an n-ary constraint (System::nary_constraints()), −1 for
   // none
   int constraint_index = -1;
+  // angle in a static analysis: the straight triples, whose G¹ rows (5.36) are tied rows of the
+  // linear conditions (eliminated by substitution); the kinked ones are the constraint's
+  int tied_triples = 0;
 };
 
 // How the Kirchhoff–Love patches were joined: the tolerance of coincidence, what was refined

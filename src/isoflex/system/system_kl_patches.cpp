@@ -119,8 +119,9 @@ void System::add_kl_patches(const model::Model& m) {
 //   α₁ = beta; all kept (the compliance makes the Newton matrix regular). Eliminating λ = α₁ f_s
 //   leaves the penalty ŝ α₁ K_sᵀ K_s (x − X) in a linear analysis (Theorem 5.1), ŝ α₁ G_sᵀ f_s in a
 //   nonlinear static one (StripForceRows with a compliance);
-// - angle (AF-D, §5.2): the continuity constraints on each triple (TripleContinuityRows), in
-//   every analysis.
+// - angle (AF-D, §5.2): the continuity constraints on each triple (TripleContinuityRows); in a
+//   static analysis the straight triples' rows (5.36), linear, are tied rows of the linear
+//   conditions instead, eliminated by the static solver (LinearConstraints::tied).
 // Constraint rows are scaled as in (4.42)/(5.5) in a static analysis: to the size
 // s = max ‖∇f_i‖∞ of the patches' stiffness at the reference, so that the Newton matrix is not
 // badly scaled by them.
@@ -240,12 +241,40 @@ void System::add_kl_couplings(const model::Model& m) {
             std::make_shared<StripForceRows>(s, nodes, factor, perturbed ? factor / I.beta : 0.0);
       }
     } else {
-      // A linear analysis takes the rows linearized at the reference, as it does every equation.
       const joints::TripleContinuityRows unit(nodes, Q);
-      MatX C = unit.jacobian(Q);
-      const double factor = scaled(C);
+      const double factor = scaled(unit.jacobian(Q));
+      if (m.solver.analysis == model::Analysis::statics) {
+        // The straight triples' rows are linear: tied rows, eliminated by the static solver
+        // (x_s or a neighbour written in terms of the others), which leaves the Newton matrix
+        // symmetric positive definite when no triple is kinked.
+        std::vector<int> kinked;
+        for (std::size_t k = 0; k < nodes.size(); k += 3) {
+          const auto at = [&](std::size_t i) { return position(nodes[k + i]); };
+          const auto tied = joints::TripleContinuityRows::straight_rows(at(0), at(1), at(2));
+          if (!tied) {
+            kinked.insert(kinked.end(), nodes.begin() + static_cast<std::ptrdiff_t>(k),
+                          nodes.begin() + static_cast<std::ptrdiff_t>(k) + 3);
+            continue;
+          }
+          for (int d = 0; d < 3; ++d) {
+            std::vector<std::pair<int, double>> row;
+            for (int p = 0; p < 3; ++p)
+              row.emplace_back(q_offset(nodes[k + static_cast<std::size_t>(p)]) + d,
+                               (*tied)[static_cast<std::size_t>(p)]);
+            linear_.tied.push_back(std::move(row));
+          }
+          ++I.tied_triples;
+        }
+        if (kinked.empty()) continue;
+        nodes = std::move(kinked);
+        Q.resize(3 * static_cast<Eigen::Index>(nodes.size()));
+        for (std::size_t k = 0; k < nodes.size(); ++k)
+          Q.segment<3>(3 * static_cast<Eigen::Index>(k)) = position(nodes[k]);
+      }
+      // A linear analysis takes the rows linearized at the reference, as it does every equation.
       if (linear)
-        rows = std::make_shared<joints::LinearRows>(nodes, factor * C, Q);
+        rows = std::make_shared<joints::LinearRows>(
+            nodes, factor * joints::TripleContinuityRows(nodes, Q).jacobian(Q), Q);
       else
         rows = std::make_shared<joints::TripleContinuityRows>(nodes, Q, factor);
     }
