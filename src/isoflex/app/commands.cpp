@@ -217,13 +217,17 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
     fmt::print(out, "analysis         static, {} load steps to t = {:g}{}\n", s.steps, s.t_end,
                s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
   fmt::print(out, "eliminated       {}  (fixed coordinates)\n", eq.eliminated());
-  fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges)\n",
-             eq.multipliers());
+  fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges{})\n",
+             eq.multipliers(),
+             eq.implied_multipliers() > 0
+                 ? fmt::format("; {} implied by the tied rows, their multipliers 0",
+                               eq.implied_multipliers())
+                 : std::string());
   if (eq.tied() > 0 || eq.dropped_tied_rows() > 0)
     fmt::print(out,
                "tied             {}  (slave coordinates of the straight triples' G¹ rows (5.36), "
-               "eliminated by substitution; {} rows implied by the others)\n",
-               eq.tied(), eq.dropped_tied_rows());
+               "eliminated by substitution; {} row{} implied by the others)\n",
+               eq.tied(), eq.dropped_tied_rows(), eq.dropped_tied_rows() == 1 ? "" : "s");
   fmt::print(out,
              "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
              eq.unknowns());
@@ -371,9 +375,8 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
         out, "dof              {}  (n - m - eliminated - multipliers)\n",
         sys.n() - sys.m_selected() - static_cast<int>(lin.eliminated.size()) - lin.multipliers());
   else
-    fmt::print(out, "dof              {}  (n - m - eliminated - multipliers - tied)\n",
-               sys.n() - sys.m_selected() - static_cast<int>(lin.eliminated.size()) -
-                   lin.multipliers() - tied_coordinates(sys));
+    fmt::print(out, "dof              {}  (n - m - eliminated - independent multipliers - tied)\n",
+               integrate::StaticEquilibrium(sys, l->model.solver).dof());
   fmt::print(out, "tree coordinates {}  (loop-closing rows kept: {})\n", sys.k(), sys.cut_rank());
   if (l->model.solver.analysis == model::Analysis::statics)
     print_static_check(sys, l->model.solver, out);

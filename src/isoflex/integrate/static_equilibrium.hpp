@@ -54,6 +54,14 @@ class StaticEquilibrium {
   // implied by the others.
   int tied() const { return static_cast<int>(solver_.dofs().slaves.size()); }
   int dropped_tied_rows() const { return solver_.dofs().dropped_tied_rows; }
+  // Multiplier rows that the tied rows imply (their multipliers 0).
+  int implied_multipliers() const { return solver_.implied_multiplier_rows(); }
+  // The degrees of freedom: coordinates less the selected rows, the eliminated and slave
+  // coordinates and the independent multiplier rows.
+  int dof() const {
+    return sys_.n() - sys_.m_selected() - eliminated() - tied() -
+           (multipliers() - implied_multipliers());
+  }
   const StaticSettings& settings() const { return solver_.settings(); }
   bool linear() const { return linear_; }
   // The load stepping from (q₀, 0); observer(stats, x) after every accepted load step with

@@ -36,7 +36,28 @@ struct StaticNewtonSolver::Impl {
   StaticSettings settings;
   DofMap dofs;
   int n = 0, nf = 0, m = 0;
-  SpMat Cf;  // C on the free dofs (m × nf)
+  SpMat Cf;  // C on the free dofs (m × nf), the implied rows zero
+  // Multiplier rows that the tied rows imply (C T dependent on the other rows: a symmetry row
+  // on an interface whose G¹ rows are tied): their equation is μᵢ = 0 instead.
+  std::vector<bool> implied;
+  int implied_count = 0;
+
+  void drop_implied_rows() {
+    std::vector<int> cols;
+    for (int j = 0; j < Cf.outerSize(); ++j)
+      if (Cf.outerIndexPtr()[j + 1] > Cf.outerIndexPtr()[j]) cols.push_back(j);
+    MatX D = MatX::Zero(m, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      for (SpMat::InnerIterator it(Cf, cols[c]); it; ++it)
+        D(it.row(), static_cast<Eigen::Index>(c)) = it.value();
+    implied.assign(static_cast<std::size_t>(m), true);
+    for (int r : solve::independent_rows_lu(D)) implied[static_cast<std::size_t>(r)] = false;
+    implied_count = static_cast<int>(std::count(implied.begin(), implied.end(), true));
+    if (implied_count == 0) return;
+    Cf.prune([&](Eigen::Index r, Eigen::Index, double) {
+      return !implied[static_cast<std::size_t>(r)];
+    });
+  }
 
   // Reduction of K into the Newton matrix A (nf + m square), kept for K's pattern.
   std::vector<int> key_outer, key_inner;
@@ -117,6 +138,8 @@ struct StaticNewtonSolver::Impl {
         trip.emplace_back(nf + static_cast<int>(it.row()), j, it.value());
         trip.emplace_back(j, nf + static_cast<int>(it.row()), it.value());
       }
+    for (int r = 0; r < m; ++r)
+      if (implied[static_cast<std::size_t>(r)]) trip.emplace_back(nf + r, nf + r, 1.0);
     A.resize(nf + m, nf + m);
     A.setFromTriplets(trip.begin(), trip.end());
     A.makeCompressed();
@@ -204,6 +227,8 @@ struct StaticNewtonSolver::Impl {
     for (int i : cons.eliminated) reactions = std::max(reactions, std::abs(ev.r(i)));
     R.head(nf) = dofs.reduce(r);
     if (m > 0) R.tail(m) = cons.C * (x - problem.reference) - constraint_rhs(t);
+    for (int r = 0; r < m; ++r)
+      if (implied[static_cast<std::size_t>(r)]) R(nf + r) = mu(r);
     scale = std::max({settings.force_floor, ev.load_norm, reactions});
     return R;
   }
@@ -447,6 +472,7 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
         fmt::format("LinearConstraints: C has {} columns, expected {}", I.cons.C.cols(), I.n));
   I.m = static_cast<int>(I.cons.C.rows());
   I.cons.C.makeCompressed();
+  I.implied.assign(static_cast<std::size_t>(I.m), false);
   // C on the free columns.
   std::vector<Eigen::Triplet<double>> trip;
   for (int j = 0; j < I.cons.C.outerSize(); ++j)
@@ -458,8 +484,9 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
   I.Cf.makeCompressed();
   VecX row_norm = VecX::Zero(I.m);
   for (const auto& t : trip) row_norm(t.row()) += t.value() * t.value();
+  if (!I.dofs.slaves.empty() && I.m > 0) I.drop_implied_rows();
   for (int r = 0; r < I.m; ++r)
-    if (row_norm(r) == 0.0) {
+    if (row_norm(r) == 0.0 && !I.implied[static_cast<std::size_t>(r)]) {
       const std::string label = static_cast<std::size_t>(r) < I.cons.row_labels.size()
                                     ? " (" + I.cons.row_labels[static_cast<std::size_t>(r)] + ")"
                                     : std::string();
@@ -500,6 +527,9 @@ StaticNewtonSolver& StaticNewtonSolver::operator=(StaticNewtonSolver&&) noexcept
 
 const DofMap& StaticNewtonSolver::dofs() const {
   return impl_->dofs;
+}
+int StaticNewtonSolver::implied_multiplier_rows() const {
+  return impl_->implied_count;
 }
 const StaticSettings& StaticNewtonSolver::settings() const {
   return impl_->settings;

@@ -163,6 +163,8 @@ class StaticNewtonSolver {
   // Runs the load stepping from x = X (plus the prescribed values) at t = 0.
   StaticResult solve(const StaticObserver& observer = {});
   const DofMap& dofs() const;
+  // Multiplier rows implied by the tied rows (and the others): kept with the equation μᵢ = 0.
+  int implied_multiplier_rows() const;
   const StaticSettings& settings() const;
 
  private:
