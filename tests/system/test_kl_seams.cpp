@@ -461,6 +461,33 @@ TEST(KLSeams, JoinFindsSeamAndKnotLines) {
   }
 }
 
+// A seam whose two sides are the same curve but not at equal parameters (the u1 side's middle
+// control point moved along the line z ∈ [0, 2]) cannot be joined point for point: a located
+// error, or an open seam on request — it is not left open silently.
+TEST(KLSeams, SeamParametrizedDifferentlyIsAnErrorOrOpenOnRequest) {
+  geometry::NurbsSurface tube =
+      geometry::elevate_degree(geometry::cylinder(1.0, 2.0), geometry::Direction::v, 1);
+  ASSERT_EQ(tube.n_v(), 3);
+  const int nu = tube.n_u();
+  tube.points[static_cast<std::size_t>(nu + nu - 1)].z() = 1.6;  // column u1, row 1: z 1 → 1.6
+  try {
+    system::join_kl_patches({tube}, 1e-6, {"tube"});
+    ADD_FAILURE() << "no error for a seam parametrized differently";
+  } catch (const system::KLInterfaceError& e) {
+    EXPECT_EQ(e.key, "seam");
+    EXPECT_NE(std::string(e.what()).find("are the same curve (a seam) but not point for point"),
+              std::string::npos)
+        << e.what();
+  }
+  system::KLJoinOptions open;
+  open.open_seam = {true};
+  const system::KLPatchJoining O = system::join_kl_patches({tube}, 1e-6, {"tube"}, open);
+  EXPECT_EQ(O.interfaces.size(), 3u);  // the knot lines only
+  ASSERT_EQ(O.open_seams.size(), 1u);
+  EXPECT_NE(O.open_seams[0].find("(parametrized differently)"), std::string::npos)
+      << O.open_seams[0];
+}
+
 // A c0 coupling across the 90° knot line of a half annulus clamped on one radial edge leaves a
 // hinge: a mechanism. The factorization succeeds on a round-off pivot (a correction of 3.6e15
 // for a model of size 10 before the check); the load step fails with a message that names it.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <utility>
@@ -153,6 +154,34 @@ bool same_curve(const NurbsSurface& g, PatchEdge ea, PatchEdge eb, bool reversed
   });
 }
 
+// Whether x lies within tol of edge e's curve: the nearest of 65 samples, then golden-section
+// search on the bracket around it (edge curves of a seam: projection onto the surface cannot
+// tell the two sides apart).
+bool near_edge_curve(const NurbsSurface& g, PatchEdge e, const Vec3& x, double tol) {
+  constexpr int n = 64;
+  int best = 0;
+  double d = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= n; ++k)
+    if (const double dk = (edge_point(g, e, static_cast<double>(k) / n) - x).norm(); dk < d) {
+      d = dk;
+      best = k;
+    }
+  double lo = std::max(0, best - 1) / static_cast<double>(n),
+         hi = std::min(n, best + 1) / static_cast<double>(n);
+  const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+  const auto dist = [&](double f) { return (edge_point(g, e, f) - x).norm(); };
+  for (int it = 0; it < 60 && d > tol; ++it) {
+    const double f1 = hi - r * (hi - lo), f2 = lo + r * (hi - lo);
+    const double d1 = dist(f1), d2 = dist(f2);
+    d = std::min({d, d1, d2});
+    if (d1 < d2)
+      hi = f2;
+    else
+      lo = f1;
+  }
+  return d <= tol;
+}
+
 std::vector<EdgePair> coincident_edges(const std::vector<NurbsSurface>& s,
                                        const std::vector<std::string>& names, double tol,
                                        const std::vector<bool>& open_seam,
@@ -174,15 +203,40 @@ std::vector<EdgePair> coincident_edges(const std::vector<NurbsSurface>& s,
           if (a == b) {
             // Adjacent edges of a patch share a corner; only a whole edge on another is a seam.
             // Of a closed edge (both ends at one point) fwd and rev both hold: try both.
+            const bool open = !open_seam.empty() && open_seam[static_cast<std::size_t>(a)];
+            bool joined = false;
             for (const bool r : {false, true}) {
               if (!(r ? rev : fwd) || !same_curve(s[a], ea, eb, r, tol)) continue;
-              if (!open_seam.empty() && open_seam[static_cast<std::size_t>(a)])
+              if (open)
                 open_seams.emplace_back(
                     a, fmt::format("{} -- {}{}", edge_name(names, a, ea), loads::to_string(eb),
                                    r ? " (reversed)" : ""));
               else
                 out.push_back({a, b, ea, eb, r});
+              joined = true;
               break;
+            }
+            // The same curve, but not point for point at equal fractions of the parameters: a
+            // seam parametrized differently on its two sides, which the couplings (matching
+            // control points) cannot join. Open on request, otherwise a located error.
+            if (!joined && (fwd || rev) &&
+                std::all_of(std::begin(kSamples), std::end(kSamples), [&](double f) {
+                  return near_edge_curve(s[a], eb, edge_point(s[a], ea, f), tol);
+                })) {
+              if (open) {
+                open_seams.emplace_back(
+                    a, fmt::format("{} -- {} (parametrized differently)", edge_name(names, a, ea),
+                                   loads::to_string(eb)));
+                continue;
+              }
+              throw KLInterfaceError(
+                  a, a,
+                  fmt::format("{} and {} are the same curve (a seam) but not point for point at "
+                              "equal fractions of their parameters: the couplings join matching "
+                              "control points only; give the surface one parametrization on both "
+                              "sides of its seam, or keep the seam open (seam: open)",
+                              edge_name(names, a, ea), loads::to_string(eb)),
+                  "seam");
             }
             continue;
           }
