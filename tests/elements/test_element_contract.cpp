@@ -1,12 +1,12 @@
 // The element contract (src/isoflex/elements/element.hpp) checked property by property over every
 // kind of element, by one typed test suite: a rigid body, a beam, a director shell quad, a
-// Kirchhoff–Love NURBS patch and a bending strip. Each kind is described by a small "maker" (top of
-// the file); every test runs for every maker. The properties are those an energy–momentum scheme
-// relies on: gradients, the discrete gradient of DNSM-III (17)–(19) (directionality, consistency,
-// its tangent), the fixed-pattern assembly interface, the momentum maps of DNSM-III §2 (translation
-// and rotation invariance of V make DV orthogonal to the rigid motions at the midpoint),
-// objectivity, and the constant mass matrix. Measured residuals are printed ("[contract] …") and
-// recorded as properties.
+// Kirchhoff–Love NURBS patch, a bending strip and a point spring–damper. Each kind is described by
+// a small "maker" (top of the file); every test runs for every maker. The properties are those an
+// energy–momentum scheme relies on: gradients, the discrete gradient of DNSM-III (17)–(19)
+// (directionality, consistency, its tangent), the fixed-pattern assembly interface, the momentum
+// maps of DNSM-III §2 (translation and rotation invariance of V make DV orthogonal to the rigid
+// motions at the midpoint), objectivity, and the constant mass matrix. Measured residuals are
+// printed ("[contract] …") and recorded as properties.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -27,6 +27,7 @@
 #include "isoflex/elements/element.hpp"
 #include "isoflex/elements/kl_patch_element.hpp"
 #include "isoflex/elements/kl_shell_patch.hpp"
+#include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/elements/rigid_body.hpp"
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/geometry/refinement.hpp"
@@ -229,6 +230,36 @@ struct BendingStripMaker {
   VecX deformed(std::mt19937& g) const { return random_configuration(g, q0, kinds, 0.03, 0.0); }
 };
 
+// A spring–damper (elements/point_spring_damper.hpp) from a point of a rigid body's frame node
+// (body coordinates (0.2, 0.1, −0.3)) to a point node, its free length the initial distance (the
+// deformed configurations stretch and compress it), with a damper; no mass.
+struct SpringDamperMaker {
+  static constexpr const char* kName = "SpringDamper";
+  static constexpr bool kInvariant = true;
+  static constexpr bool kMassless = true;
+  std::vector<NodeKind> kinds{NodeKind::frame, NodeKind::point};
+  VecX q0 = reference();
+  elements::PointSpringDamper element = make(q0);
+  static VecX reference() {
+    VecX q(15);
+    q << frame_node::make(Vec3(0.2, -0.1, 0.4), rodrigues(Vec3(0.3, -0.5, 0.2))),
+        Vec3(1.1, 0.7, -0.2);
+    return q;
+  }
+  static elements::PointSpringDamper make(const VecX& q0) {
+    const Vec3 X(0.2, 0.1, -0.3);
+    elements::MaterialPointMap a, b;
+    a.P = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 15);
+    b.P = a.P;
+    a.P.block<3, 3>(0, 0) = Mat3::Identity();
+    for (int i = 0; i < 3; ++i) a.P.block<3, 3>(0, 3 + 3 * i) = X(i) * Mat3::Identity();
+    b.P.block<3, 3>(0, 12) = Mat3::Identity();
+    const double z0 = (a.P * q0 - b.P * q0).norm();
+    return elements::PointSpringDamper({3, 8}, 15, a, b, {40.0, 0.7, z0}, q0);
+  }
+  VecX deformed(std::mt19937& g) const { return random_configuration(g, q0, kinds, 0.05, 0.1); }
+};
+
 // Whether the maker's element has no mass at all (a bending strip): its mass matrix is zero.
 template <class Maker>
 constexpr bool massless() {
@@ -317,7 +348,7 @@ struct MakerNames {
 };
 
 using Makers = ::testing::Types<RigidBodyMaker, BeamMaker, DirectorShellMaker, KLPatchMaker,
-                                BendingStripMaker>;
+                                BendingStripMaker, SpringDamperMaker>;
 TYPED_TEST_SUITE(ElementContract, Makers, MakerNames);
 
 }  // namespace

@@ -1,0 +1,65 @@
+#pragma once
+// A spring–damper between two material points (IGA-thesis (6.8)–(6.9)): a rigid-body point, a
+// beam or director-shell node's point, a point of a Kirchhoff–Love patch (Σ R_A x_A) or a fixed
+// point of the ground. Every such point is linear in its nodes' coordinates, x_i = P_i q + c_i
+// (docs/theory/coupling.md §1), so the difference d = x₁ − x₂ = D q + e and ζ² = |d|² is quadratic
+// in q. The spring's energy V = ½ k (ζ − L)² (free length L) is a function of ζ², and its discrete
+// gradient is the one for a quadratic invariant (Gonzalez; DNSM-III (17)–(19)):
+//   DV(qₙ, qₙ₊₁) = W̄′ 2 Dᵀ d_{n+½},  W̄′ = (W(ζ²ₙ₊₁) − W(ζ²ₙ)) / (ζ²ₙ₊₁ − ζ²ₙ) = ½ k (1 − 2L/(ζₙ +
+//   ζₙ₊₁)),
+// the difference quotient written without cancellation; DV·Δq = ΔV exactly, and the force, along
+// d_{n+½}, keeps both momenta. The damper f = c ζ̇ along the line is a viscous force
+// (Element::viscous_force_in_pattern): its power c ζ̇² ≥ 0 is what it dissipates.
+#include <vector>
+
+#include "isoflex/elements/element.hpp"
+
+namespace isoflex::elements {
+
+// x = P q_e + c over the element's stacked coordinates q_e.
+struct MaterialPointMap {
+  Eigen::Matrix<double, 3, Eigen::Dynamic> P;
+  Vec3 c = Vec3::Zero();
+};
+
+struct SpringDamperLaw {
+  double stiffness = 0.0;    // k ≥ 0
+  double damping = 0.0;      // c ≥ 0
+  double free_length = 0.0;  // L ≥ 0
+};
+
+class PointSpringDamper final : public Element {
+ public:
+  // Throws std::invalid_argument for maps of a size other than 3 × (coordinates of nodes), a
+  // negative or non-finite law, or points that coincide where the spring has a free length or a
+  // damper (the line of action is undefined there).
+  PointSpringDamper(std::vector<int> nodes, int coordinates, MaterialPointMap a, MaterialPointMap b,
+                    SpringDamperLaw law, const VecX& q0);
+
+  const std::vector<int>& nodes() const override { return nodes_; }
+  double potential(const VecX& q) const override;
+  VecX gradient(const VecX& q) const override;
+  VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
+  MatX mass() const override { return MatX::Zero(n_, n_); }
+  SpMat sparse_mass() const override { return SpMat(n_, n_); }
+
+  bool viscous() const override { return law_.damping > 0.0; }
+  VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
+                                double* values) const override;
+
+  const SpringDamperLaw& law() const { return law_; }
+  // The distance ζ = |x₁ − x₂|, its rate ζ̇ and the force N = k (ζ − L) + c ζ̇ (tension > 0).
+  double length(const VecX& q) const;
+  double rate(const VecX& q, const VecX& qdot) const;
+  double force(const VecX& q, const VecX& qdot) const;
+
+ private:
+  Vec3 difference(const VecX& q) const { return D_ * q + e_; }
+  std::vector<int> nodes_;
+  int n_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> D_;
+  Vec3 e_;
+  SpringDamperLaw law_;
+};
+
+}  // namespace isoflex::elements
