@@ -137,10 +137,10 @@ TEST(KLRollUpArcLength, PastTheFullCircle) {
   EXPECT_NEAR(u.y(), 0.0, 1e-10);
 }
 
-// Arc length on the two-patch roll-up with constraint rows and multipliers (the bordered LU
-// step): AF-D's rows, and AF-BS's strip forces chosen at the start of each step (pinned for the
-// step, whose Newton iteration evaluates at many λ); both end at λ = 1.5 where load control to
-// 1.5 ends. Measured tip (−12.01235, 0, 2.542493) for both couplings and both methods.
+// Arc length on the two-patch roll-up with AF-D's rows (straight: eliminated as tied rows, the
+// bordered Cholesky step) and with AF-BS's strip forces as rows with multipliers (the bordered LU
+// step), chosen at the start of each step (pinned for the step, whose Newton iteration evaluates
+// at many λ); both end at λ = 1.5 where load control to 1.5 ends. Measured tip (−12.01235, 0, 2.542493) for both couplings and both methods.
 TEST(KLRollUpArcLength, TwoPatchesWithConstraintRows) {
   for (const char* coupling : {"angle", "strip_constraints"}) {
     std::string text = test::example_text("kl_two_patch_roll_up", "model.yaml");
