@@ -35,6 +35,7 @@ using model::Model;
 using model::Probe;
 using model::Shape;
 using model::ShapeKind;
+using model::Spring;
 
 constexpr double kPerpendicularTolerance = 1e-9;  // |cos| of axis and axis2 (universal)
 constexpr double kTriangleTolerance = 1e-12;      // relative slack in the triangle inequalities
@@ -75,11 +76,27 @@ class Reader : YamlFields {
     if (!root.IsMap())
       fail(root, "", "a model file must be a YAML mapping with the keys name, gravity, ...");
     expect_map(root, "");
-    check_keys(
-        root, "",
-        {"name", "gravity", "solver", "output", "bodies", "beams", "joints", "loads",
-         "distributed_loads", "probes", "surfaces", "shells", "shell_supports", "shell_connections",
-         "shell_loads", "kl_shells", "kl_supports", "kl_loads", "kl_interfaces"});
+    check_keys(root, "",
+               {"name",
+                "gravity",
+                "solver",
+                "output",
+                "bodies",
+                "beams",
+                "joints",
+                "loads",
+                "distributed_loads",
+                "probes",
+                "surfaces",
+                "shells",
+                "shell_supports",
+                "shell_connections",
+                "shell_loads",
+                "kl_shells",
+                "kl_supports",
+                "kl_loads",
+                "kl_interfaces",
+                "springs"});
     Model m;
     m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -141,6 +158,9 @@ class Reader : YamlFields {
     if (const auto list = optional_list(root, "probes"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.probes.push_back(read_probe(list[i], indexed("probes", i), m, kl));
+    if (const auto list = optional_list(root, "springs"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.springs.push_back(read_spring(list[i], indexed("springs", i), i, m, kl));
     check_path_probe(root["solver"], m);
     m.shell_supports = shells.supports(root["shell_supports"], m.shells);
     for (auto& j :
@@ -694,14 +714,23 @@ class Reader : YamlFields {
                    const KLShellReader& kl) {
     expect_map(n, p);
     check_keys(n, p, {"name", "body", "shell", "point", "point_local"});
+    const YAML::Node name = require(n, p, "name");
+    const std::string probe = string(name, join(p, "name"));
+    if (probe.empty()) fail(name, join(p, "name"), "must not be empty");
+    if (const auto [pos, inserted] = probe_lines_.emplace(probe, line_of(name)); !inserted)
+      fail(name, join(p, "name"),
+           fmt::format("duplicate probe name \"{}\" (first at line {})", probe, pos->second));
+    Probe r = read_material_point(n, p, m, kl, false);
+    r.name = probe;
+    return r;
+  }
+
+  // A material point (a probe's keys but the name): body (a body or node; "ground" if
+  // allow_ground, then with a global point) with point or point_local, or shell with point.
+  Probe read_material_point(const YAML::Node& n, const std::string& p, const Model& m,
+                            const KLShellReader& kl, bool allow_ground) {
     Probe r;
     r.source = source(n);
-    const YAML::Node name = require(n, p, "name");
-    r.name = string(name, join(p, "name"));
-    if (r.name.empty()) fail(name, join(p, "name"), "must not be empty");
-    if (const auto [pos, inserted] = probe_lines_.emplace(r.name, line_of(name)); !inserted)
-      fail(name, join(p, "name"),
-           fmt::format("duplicate probe name \"{}\" (first at line {})", r.name, pos->second));
     if ((n["body"] ? 1 : 0) + (n["shell"] ? 1 : 0) != 1)
       fail(n, p, "give exactly one of body (a body or node) or shell (a kl_shell, with point)");
     if (const YAML::Node shell = n["shell"]) {
@@ -720,9 +749,48 @@ class Reader : YamlFields {
       r.eta = eta;
       return r;
     }
-    r.body = body_ref(require(n, p, "body"), join(p, "body"), false);
+    r.body = body_ref(require(n, p, "body"), join(p, "body"), allow_ground);
     read_point(n, p, r.point, r.point_local);
+    if (r.body == "ground") {
+      if (r.point_local)
+        fail(n["point_local"], join(p, "point_local"),
+             "the ground has no body "
+             "coordinates: give its point globally (point)");
+      if (!r.point) fail(n, p, "a point of the ground needs point");
+    }
     return r;
+  }
+
+  Spring read_spring(const YAML::Node& n, const std::string& p, std::size_t index, const Model& m,
+                     const KLShellReader& kl) {
+    expect_map(n, p);
+    check_keys(n, p, {"name", "a", "b", "stiffness", "damping", "free_length"});
+    Spring s;
+    s.source = source(n);
+    s.name = n["name"] ? string(n["name"], join(p, "name")) : "spring" + std::to_string(index);
+    for (const char* end : {"a", "b"}) {
+      const YAML::Node e = require(n, p, end);
+      expect_map(e, join(p, end));
+      check_keys(e, join(p, end), {"body", "shell", "point", "point_local"});
+      (end[0] == 'a' ? s.a : s.b) = read_material_point(e, join(p, end), m, kl, true);
+    }
+    if (s.a.body == "ground" && s.b.body == "ground")
+      fail(n, p, "both ends are on the ground: the spring would act on nothing");
+    const auto non_negative = [&](const char* key, double& out) {
+      if (const YAML::Node v = n[key]) {
+        out = number(v, join(p, key));
+        if (!(out >= 0.0)) fail(v, join(p, key), "must be ≥ 0");
+      }
+    };
+    non_negative("stiffness", s.stiffness);
+    non_negative("damping", s.damping);
+    if (!n["stiffness"] && !n["damping"]) fail(n, p, "give stiffness, damping or both");
+    if (const YAML::Node v = n["free_length"]) {
+      double L = 0.0;
+      non_negative("free_length", L);
+      s.free_length = L;
+    }
+    return s;
   }
 
   void read_point(const YAML::Node& n, const std::string& p, std::optional<Vec3>& point,

@@ -211,6 +211,18 @@ struct Probe {
   Source source;
 };
 
+// A spring–damper between two material points (IGA-thesis (6.8)–(6.9); elements/
+// point_spring_damper.hpp): each end a point as a probe gives it (a body or node with point or
+// point_local, a kl_shell with point) or a fixed point of the ground (body "ground", point). The
+// force N = k (ζ − L) + c ζ̇ along the line, ζ the distance; L defaults to ζ at t = 0.
+struct Spring {
+  std::string name;
+  Probe a, b;  // their names unused
+  double stiffness = 0.0, damping = 0.0;
+  std::optional<double> free_length;
+  Source source;
+};
+
 // --- Surfaces (NURBS geometry for shells, referenced by name) --------------------------------
 
 enum class SurfaceSourceKind { cad, builtin };
@@ -414,6 +426,7 @@ struct Model {
   std::vector<ShellSupport> shell_supports;
   std::vector<ShellLoad> shell_loads;
   std::vector<Probe> probes;
+  std::vector<Spring> springs;
   std::vector<Surface> surfaces;
   std::vector<KLShell> kl_shells;
   std::vector<KLSupport> kl_supports;

@@ -133,6 +133,12 @@ struct ProbeInstance {
   std::vector<std::pair<int, double>> weights;
 };
 
+// A spring–damper of the model: its element in System::elements() (elements::PointSpringDamper).
+struct SpringInstance {
+  std::string name;
+  int element_index = -1;
+};
+
 class System {
  public:
   static System compile(const model::Model& model);
@@ -262,6 +268,8 @@ class System {
   Vec3 angular_momentum(const VecX& q, const VecX& v) const;
 
   const std::vector<ProbeInstance>& probes() const { return probes_; }
+  // The spring–dampers (model springs) and their elements in elements().
+  const std::vector<SpringInstance>& springs() const { return springs_; }
   // The probe's material point in q (its velocity: the same map applied to v).
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
   // The gradient of direction · probe_point(q) as (coordinate, value) pairs: constant, as every
@@ -330,6 +338,11 @@ class System {
   void add_distributed_loads(Build& build);
   void add_shell_loads(Build& build);
   void add_probes(Build& build);
+  // A system node by the name of a body or beam/shell node (−1: the ground); throws a located
+  // CompileError for an unknown name.
+  using NodeFinder =
+      std::function<int(const std::string&, const model::Source&, const std::string&)>;
+  void add_springs(const model::Model& m, const NodeFinder& find);  // system_springs.cpp
   void add_joint_edges(Build& build);
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);
@@ -388,6 +401,7 @@ class System {
   VecX selected_compliance_;
   std::vector<ReselectedGroup> reselected_groups_;
   std::vector<ProbeInstance> probes_;
+  std::vector<SpringInstance> springs_;
   std::vector<BeamInstance> beams_;
   std::vector<std::string> node_names_;  // body name or "<beam>[i]"
   std::vector<int> node_beam_;  // beam index (shells: after the beams) of a node, −1 for a body

@@ -123,6 +123,8 @@ System System::compile(const model::Model& model) {
   s.add_distributed_loads(build);
   s.add_shell_loads(build);
   s.add_probes(build);
+  s.add_springs(model, [&](const std::string& name, const model::Source& src,
+                           const std::string& what) { return build.find(name, src, what); });
   // Joints and supports, the spanning forest, the rows.
   s.add_joint_edges(build);
   s.add_shell_supports(build);
