@@ -3,17 +3,22 @@
 // (examples/springs_free_flight) conserves energy and both momenta to round-off in all three
 // energy–momentum formulations, which agree; with dampers the energy lost is the dissipated
 // work, momenta still kept; the reader's located errors.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "isoflex/elements/point_spring_damper.hpp"
+#include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/system/system.hpp"
+#include "support/cli.hpp"
 #include "support/examples.hpp"
+#include "support/files.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -127,4 +132,94 @@ springs:
                 .find("springs[0].length: unknown key (valid keys: name, a, b, stiffness, damping, "
                       "free_length)"),
             std::string::npos);
+}
+
+// Through the CLI: check lists the springs; forces.csv has one row per spring and snapshot with
+// N = k (ζ − L) + c ζ̇, and history.csv the dissipated energy when a spring damps.
+TEST(SpringsFreeFlight, CliListsTheSpringsAndWritesTheirForces) {
+  const test::TempDir dir(test::temp_dir("isoflex_", "springs_cli"));
+  const std::string model = (dir.path() / "m.yaml").string();
+  test::write_text(model, test::replaced(test::replaced(example(), "t_end: 2", "t_end: 0.1"),
+                                         "stiffness: 50\n", "stiffness: 50\n    damping: 0.5\n"));
+  const auto c = test::run_isoflex("check " + model);
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("spring           a_plate: stiffness 200, damping 0, free length 0.4, "
+                       "length at t = 0 0.559017"),
+            std::string::npos)
+      << c.out;
+  EXPECT_NE(c.out.find("spring           a_b: stiffness 50, damping 0.5, free length 2"),
+            std::string::npos);
+  const auto r = test::run_isoflex("run " + model + " -o " + (dir.path() / "out").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::istringstream forces(test::read_text((dir.path() / "out" / "forces.csv").string()));
+  std::string line;
+  std::getline(forces, line);
+  EXPECT_EQ(line, "t,spring,length,elongation,rate,force");
+  int rows = 0;
+  while (std::getline(forces, line)) {
+    std::istringstream f(line);
+    std::string t, name, length, elongation, rate, force;
+    std::getline(f, t, ',');
+    std::getline(f, name, ',');
+    std::getline(f, length, ',');
+    std::getline(f, elongation, ',');
+    std::getline(f, rate, ',');
+    std::getline(f, force, ',');
+    const double k = name == "a_plate" ? 200 : name == "plate_b" ? 150 : 50;
+    const double c = name == "a_b" ? 0.5 : 0.0;
+    const double L = name == "a_plate" ? 0.4 : name == "plate_b" ? 0.5 : 2.0;
+    EXPECT_NEAR(std::stod(length) - L, std::stod(elongation), 1e-14) << line;
+    EXPECT_NEAR(std::stod(force), k * std::stod(elongation) + c * std::stod(rate), 1e-12) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 3 * 11);  // 3 springs, the start and 10 steps
+  const std::string history = test::read_text((dir.path() / "out" / "history.csv").string());
+  EXPECT_NE(history.find(",residual,dissipated_energy\n"), std::string::npos);
+}
+
+namespace {
+
+// A cantilever (beam_roll_up's section, L = 12, 32 elements) with a tip force F_z = 1 in a linear
+// static analysis, optionally a spring from its tip to the ground point 1 below it (unstretched):
+// the tip's u_z.
+double cantilever_tip(const std::string& spring) {
+  const std::string text = R"(name: cantilever
+solver: {analysis: static, dt: 1, t_end: 1, linear: true}
+beams:
+  - name: beam
+    points: [[0, 0, 0], [12, 0, 0]]
+    elements: 32
+    d1: [0, 1, 0]
+    section: {EA: 1.2e5, GA: 6.0e4, EI1: 100, EI2: 1.0e4, GJ: 187.4, A_rho: 0.1, M_rho1: 1e-2,
+              M_rho2: 1e-4}
+joints:
+  - {name: clamp, type: fixed, body_b: "beam[0]"}
+loads:
+  - {body: "beam[32]", force: [0, 0, "t"]}
+probes:
+  - {name: tip, body: "beam[32]"}
+)" + spring;
+  const model::Model m = io::read_model_string(text, "m.yaml");
+  const auto sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  const VecX q = eq.solve().x.head(sys.n());
+  const auto& p = sys.probes().front();
+  return (sys.probe_point(q, p) - sys.probe_point(sys.q0(), p)).z();
+}
+
+}  // namespace
+
+// In a linear static analysis an unstretched spring along z adds k to the tip's stiffness in z
+// exactly (its transverse stiffness k (1 − L/ζ) is 0): u = F / (F/u₀ + k) with u₀ the tip
+// displacement without it, whatever the beam's discretization.
+TEST(SpringsStatic, SpringAtACantileverTipAddsItsStiffness) {
+  const double u0 = cantilever_tip("");
+  EXPECT_NEAR(u0, 12.0 * 12.0 * 12.0 / 300.0, 0.01 * 5.76);  // F L³/(3 EI), shear and h aside
+  for (const double k : {0.05, 0.5, 5.0}) {
+    const double u = cantilever_tip(fmt::format(
+        "springs:\n  - {{a: {{body: \"beam[32]\"}}, b: {{body: ground, point: [12, 0, -1]}}, "
+        "stiffness: {}}}\n",
+        k));
+    EXPECT_NEAR(u, 1.0 / (1.0 / u0 + k), 1e-10 * std::abs(u)) << k;
+  }
 }

@@ -16,6 +16,7 @@
 #include "isoflex/app/exit_codes.hpp"
 #include "isoflex/app/interrupt.hpp"
 #include "isoflex/app/run_outputs.hpp"
+#include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/initial_equilibrium.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -333,6 +334,15 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                          type.name(), type.coordinates());
   }
   fmt::print(out, "nodes            {} ({})\n", sys.node_count(), kinds);
+  for (const auto& sp : sys.springs()) {
+    const auto& e = dynamic_cast<const elements::PointSpringDamper&>(
+        *sys.elements()[static_cast<std::size_t>(sp.element_index)]);
+    fmt::print(out,
+               "spring           {}: stiffness {:g}, damping {:g}, free length {:.6g}, length at t "
+               "= 0 {:.6g}\n",
+               sp.name, e.law().stiffness, e.law().damping, e.law().free_length,
+               e.length(sys.stacked(sys.q0(), e.nodes())));
+  }
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
   fmt::print(out,
              "m                {}  (independent constraints: {} internal + {} joint and other)\n",

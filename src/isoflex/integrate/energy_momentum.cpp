@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/integrate/step_subdivision.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
@@ -458,6 +459,13 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
     pv.displacement = pv.position - sys_.probe_point(sys_.q0(), p);
     pv.velocity = sys_.probe_point(s.v, p);  // material points are linear in q
     out.probes.push_back(pv);
+  }
+  for (const auto& sp : sys_.springs()) {
+    const auto& e = dynamic_cast<const elements::PointSpringDamper&>(
+        *sys_.elements()[static_cast<std::size_t>(sp.element_index)]);
+    const VecX q = sys_.stacked(s.q, e.nodes()), v = sys_.stacked(s.v, e.nodes());
+    const double z = e.length(q);
+    out.springs.push_back({sp.name, z, z - e.law().free_length, e.rate(q, v), e.force(q, v)});
   }
   return out;
 }

@@ -26,6 +26,13 @@ struct ProbeValue {
   Vec3 velocity = Vec3::Zero();
 };
 
+// A spring–damper (model springs): the distance ζ of its points, the elongation ζ − L, the rate ζ̇
+// and the force N = k (ζ − L) + c ζ̇ along the line (tension > 0).
+struct SpringValue {
+  std::string name;
+  double length = 0.0, elongation = 0.0, rate = 0.0, force = 0.0;
+};
+
 // Stress resultants of one beam element (DNSM-III (69)): n = ∂W/∂Γ (shear along d₁, d₂; axial
 // force), m = ∂W/∂K (bending about d₁, d₂; torsion), components in the element's directors.
 struct BeamElementValue {
@@ -76,6 +83,7 @@ struct Snapshot {
   // directors (d₁, d₂, d) with d the shell director).
   std::vector<BodyPose> bodies;
   std::vector<ProbeValue> probes;
+  std::vector<SpringValue> springs;
   std::vector<BeamElementValue> beam_elements;
   std::vector<ShellElementValue> shell_elements;
   std::vector<KLPatchValue> kl_patches;

@@ -156,4 +156,21 @@ void ResultantsWriter::on_finish() {
   file_.flush();
 }
 
+ForcesWriter::ForcesWriter(const std::filesystem::path& outdir, const model::Model& model) {
+  if (!model.springs.empty()) file_ = CsvFile(outdir / "forces.csv", kForcesHeader);
+}
+
+void ForcesWriter::on_snapshot(const integrate::Snapshot& s) {
+  if (!file_) return;
+  for (const auto& f : s.springs)
+    fmt::format_to(std::back_inserter(file_.pending()),
+                   "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t, csv_field(f.name), f.length,
+                   f.elongation, f.rate, f.force);
+  file_.flush();
+}
+
+void ForcesWriter::on_finish() {
+  file_.flush();
+}
+
 }  // namespace isoflex::io

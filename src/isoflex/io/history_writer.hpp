@@ -10,6 +10,8 @@
 //   probes.csv:  t,probe,x,y,z,ux,uy,uz,vx,vy,vz (one row per probe and snapshot)
 //   resultants.csv: t,beam,element,n1,n2,n3,m1,m2,m3 (one row per beam element and snapshot;
 //                stress resultants in director components, DNSM-III (69))
+//   forces.csv:  t,spring,length,elongation,rate,force (one row per spring–damper and snapshot:
+//                the distance ζ, ζ − L, ζ̇ and N = k (ζ − L) + c ζ̇, tension > 0)
 #include <filesystem>
 #include <string>
 
@@ -23,6 +25,7 @@ inline constexpr const char* kHistoryHeader =
     "newton_iterations,residual";
 inline constexpr const char* kProbesHeader = "t,probe,x,y,z,ux,uy,uz,vx,vy,vz";
 inline constexpr const char* kResultantsHeader = "t,beam,element,n1,n2,n3,m1,m2,m3";
+inline constexpr const char* kForcesHeader = "t,spring,length,elongation,rate,force";
 
 // An output file of rows: the writers append rows to pending(), flush() writes them. A failed
 // write (a full disk) cuts the file back to the last row written completely, so that the file
@@ -84,6 +87,17 @@ class ProbeWriter : public integrate::Observer {
 class ResultantsWriter : public integrate::Observer {
  public:
   ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model);
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+ private:
+  CsvFile file_;
+};
+
+// Writes outdir/forces.csv; creates no file when the model has no springs.
+class ForcesWriter : public integrate::Observer {
+ public:
+  ForcesWriter(const std::filesystem::path& outdir, const model::Model& model);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 

@@ -86,6 +86,8 @@ bool has_material_damping(const Model& m) {
     if (b.section.eta > 0) return true;
   for (const Shell& s : m.shells)
     if (s.material.eta > 0) return true;
+  for (const Spring& s : m.springs)
+    if (s.damping > 0) return true;
   return false;
 }
 

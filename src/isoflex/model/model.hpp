@@ -453,7 +453,8 @@ inline constexpr double kMaxSteps = 1e8;
 // at least one load step). dt and t_end are > 0.
 std::string step_count_problem(const Solver& s);
 // Whether a dynamic run of `m` dissipates through material damping (eta > 0 in a kl_shells or
-// shells material or a beam section): history.csv gets the dissipated_energy column.
+// shells material or a beam section) or dampers (springs with damping > 0): history.csv gets the
+// dissipated_energy column.
 bool has_material_damping(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
