@@ -539,6 +539,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       const integrate::StaticResult result =
           equilibrium.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
             state.q = x.head(sys.n());
+            state.lambda = x.segment(sys.n(), sys.m_selected());
             state.t = st.t;
             state.step = st.step;
             path = st.path;
@@ -554,6 +555,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     } else {
       doing = "while setting up the time stepping";
       integ = integrate::make_time_integrator(sys, m.solver);
+      integ->set_joint_reactions(m.output.history && m.output.reactions);
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
       for (int i = 0; i < steps; ++i) {

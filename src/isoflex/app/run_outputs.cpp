@@ -25,12 +25,13 @@ std::string path_column(const model::Model& m) {
 
 RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
                        std::FILE* progress) {
-  if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv (model-files.md)
+  if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv, reactions.csv
     observers_.push_back(std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m),
                                                              path_column(m)));
     observers_.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ForcesWriter>(outdir, m));
+    if (m.output.reactions) observers_.push_back(std::make_unique<io::ReactionsWriter>(outdir, m));
   }
   if (m.output.vtk_every > 0)
     observers_.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));

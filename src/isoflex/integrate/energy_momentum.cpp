@@ -8,6 +8,7 @@
 #include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/integrate/step_subdivision.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/joint_reactions.hpp"
 
 namespace isoflex::integrate {
 
@@ -49,6 +50,7 @@ long long structural_null_space_entries(const system::System& sys) {
 EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
+  set_joint_reactions(true);
   const double mean_mass = sys.mass().diagonal().sum() / std::max(1, sys.n());
   constraint_scale_ = (2.0 / settings.dt) * (mean_mass > 0.0 ? mean_mass : 1.0);
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
@@ -389,6 +391,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   }
   st.iterations += spent;
   const VecX q1 = configuration(c, x);
+  if (reactions_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.last_dt = dt;
@@ -400,6 +403,25 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   s.q = q1;
   s.t += c.dt;
   return st;
+}
+
+void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
+  reactions_ = on && std::any_of(sys_.joints().begin(), sys_.joints().end(),
+                                 [](const system::JointInstance& J) { return J.frame != nullptr; });
+}
+
+VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, double dt,
+                                                double t_mid) const {
+  VecX f = sys_.discrete_force(s.q, q1, t_mid, nullptr);
+  if (sys_.viscous()) f += sys_.viscous_force(0.5 * (s.q + q1), (q1 - s.q) / dt, 0, 0, nullptr);
+  const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
+  const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - s.v)) + f;
+  const SpMat G = sys_.discrete_jacobian(s.q, q1);
+  try {
+    return normal_equations_.solve(G, VecX(-(G * r)));
+  } catch (const std::runtime_error&) {
+    return VecX();  // G rank deficient at the step: no reactions for it (the step stands)
+  }
 }
 
 Snapshot EnergyMomentumIntegrator::snapshot(const State& s, const StepStats& st,
@@ -460,6 +482,9 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
     pv.velocity = sys_.probe_point(s.v, p);  // material points are linear in q
     out.probes.push_back(pv);
   }
+  if (s.lambda.size() == sys_.m_selected() && sys_.m_selected() > 0)
+    for (const auto& r : system::joint_reactions(sys_, s.q, s.lambda))
+      out.reactions.push_back({r.joint, r.point, r.force, r.moment, r.force_local, r.moment_local});
   for (const auto& sp : sys_.springs()) {
     const auto& e = dynamic_cast<const elements::PointSpringDamper&>(
         *sys_.elements()[static_cast<std::size_t>(sp.element_index)]);

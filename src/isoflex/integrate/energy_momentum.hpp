@@ -56,6 +56,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   State initial_state() const override;
   // Advances s by one step; throws NewtonFailure when Newton does not converge.
   StepStats step(State& s) const override;
+  void set_joint_reactions(bool on) override;
 
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
   // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the
@@ -94,10 +95,16 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;
   VecX configuration(const StepContext& c, const VecX& x) const;
+  // The multipliers of the selected rows for the step qₙ → q1 (State::lambda, for the joint
+  // reactions): the least-squares solution of G̃ᵀλ = −r₀/Δt, r₀ = M(vₙ₊₁ − vₙ) + Δt f, i.e. the
+  // constrained form (DNSM-III (9)) that every formulation solves in its own unknowns — exact to
+  // the Newton tolerance. Empty where G̃ is rank deficient (the step's reactions are not written).
+  VecX step_multipliers(const State& s, const VecX& q1, double dt, double t_mid) const;
 
   const system::System& sys_;
   model::Solver settings_;
   bool bordered_ = false;
+  bool reactions_ = false;  // some joint between frame nodes: State::lambda after every step
   // Rows Φ(q_{n+1}) = 0 of the reduced schemes are multiplied by (2/Δt)·(mean diagonal of M), the
   // scale of the rows 𝖯ᵀ(M(vₙ₊₁ − vₙ) + Δt f): the solution is unchanged and the condition
   // number of the Newton matrix no longer grows as Δt⁻¹ (docs/theory/schemes.md).

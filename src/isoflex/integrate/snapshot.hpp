@@ -33,6 +33,15 @@ struct SpringValue {
   double length = 0.0, elongation = 0.0, rate = 0.0, force = 0.0;
 };
 
+// A joint's reaction on its body_b (system/joint_reactions.hpp): force and moment about the
+// joint point, global and in body_b's joint frame.
+struct ReactionValue {
+  std::string joint;
+  Vec3 point = Vec3::Zero();
+  Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
+  Vec3 force_local = Vec3::Zero(), moment_local = Vec3::Zero();
+};
+
 // Stress resultants of one beam element (DNSM-III (69)): n = ∂W/∂Γ (shear along d₁, d₂; axial
 // force), m = ∂W/∂K (bending about d₁, d₂; torsion), components in the element's directors.
 struct BeamElementValue {
@@ -84,6 +93,9 @@ struct Snapshot {
   std::vector<BodyPose> bodies;
   std::vector<ProbeValue> probes;
   std::vector<SpringValue> springs;
+  // The joints between frame nodes, when the state has the multipliers (State::lambda: every step
+  // of a model with such joints; not the initial state of the energy–momentum schemes).
+  std::vector<ReactionValue> reactions;
   std::vector<BeamElementValue> beam_elements;
   std::vector<ShellElementValue> shell_elements;
   std::vector<KLPatchValue> kl_patches;

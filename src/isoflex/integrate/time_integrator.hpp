@@ -53,6 +53,11 @@ class TimeIntegrator {
   // Advances s by one step of solver.dt (subdivided on failure as solver.max_subdivisions
   // allows); throws NewtonFailure and leaves s unchanged when it cannot.
   virtual StepStats step(State& s) const = 0;
+  // Whether every step records the multipliers of the selected rows in State::lambda (the joint
+  // reactions): the DAE schemes have them anyway; the energy–momentum schemes recover them at
+  // one more force evaluation and a least-squares solve per step (on by default when the model has
+  // joints between frame nodes; off: output.reactions false).
+  virtual void set_joint_reactions(bool) {}
 };
 
 // The integrator `settings.integrator` names, for sys (which must outlive it).

@@ -173,4 +173,24 @@ void ForcesWriter::on_finish() {
   file_.flush();
 }
 
+ReactionsWriter::ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model) {
+  if (!model.joints.empty()) file_ = CsvFile(outdir / "reactions.csv", kReactionsHeader);
+}
+
+void ReactionsWriter::on_snapshot(const integrate::Snapshot& s) {
+  if (!file_) return;
+  const auto v = [](const Vec3& a) {
+    return fmt::format("{:.17g},{:.17g},{:.17g}", a.x(), a.y(), a.z());
+  };
+  for (const auto& r : s.reactions)
+    fmt::format_to(std::back_inserter(file_.pending()), "{:.17g},{},{},{},{},{},{}\n", s.t,
+                   csv_field(r.joint), v(r.point), v(r.force), v(r.moment), v(r.force_local),
+                   v(r.moment_local));
+  file_.flush();
+}
+
+void ReactionsWriter::on_finish() {
+  file_.flush();
+}
+
 }  // namespace isoflex::io

@@ -12,6 +12,9 @@
 //                stress resultants in director components, DNSM-III (69))
 //   forces.csv:  t,spring,length,elongation,rate,force (one row per spring–damper and snapshot:
 //                the distance ζ, ζ − L, ζ̇ and N = k (ζ − L) + c ζ̇, tension > 0)
+//   reactions.csv: t,joint,x,y,z,Fx,Fy,Fz,Mx,My,Mz,F1,F2,F3,M1,M2,M3 (one row per joint between
+//                frame nodes and snapshot with multipliers: the force and moment on body_b about
+//                the joint point (x, y, z), global and in body_b's joint frame)
 #include <filesystem>
 #include <string>
 
@@ -26,6 +29,7 @@ inline constexpr const char* kHistoryHeader =
 inline constexpr const char* kProbesHeader = "t,probe,x,y,z,ux,uy,uz,vx,vy,vz";
 inline constexpr const char* kResultantsHeader = "t,beam,element,n1,n2,n3,m1,m2,m3";
 inline constexpr const char* kForcesHeader = "t,spring,length,elongation,rate,force";
+inline constexpr const char* kReactionsHeader = "t,joint,x,y,z,Fx,Fy,Fz,Mx,My,Mz,F1,F2,F3,M1,M2,M3";
 
 // An output file of rows: the writers append rows to pending(), flush() writes them. A failed
 // write (a full disk) cuts the file back to the last row written completely, so that the file
@@ -98,6 +102,17 @@ class ResultantsWriter : public integrate::Observer {
 class ForcesWriter : public integrate::Observer {
  public:
   ForcesWriter(const std::filesystem::path& outdir, const model::Model& model);
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+ private:
+  CsvFile file_;
+};
+
+// Writes outdir/reactions.csv; creates no file when the model has no joints.
+class ReactionsWriter : public integrate::Observer {
+ public:
+  ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 

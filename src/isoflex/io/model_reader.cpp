@@ -319,9 +319,10 @@ class Reader : YamlFields {
   void read_output(const YAML::Node& n, model::Output& o) const {
     if (n.IsNull()) return;
     expect_map(n, "output");
-    check_keys(n, "output", {"vtk_every", "history"});
+    check_keys(n, "output", {"vtk_every", "history", "reactions"});
     if (const auto v = n["vtk_every"]) o.vtk_every = integer(v, "output.vtk_every", 0);
     if (const auto v = n["history"]) o.history = boolean(v, "output.history");
+    if (const auto v = n["reactions"]) o.reactions = boolean(v, "output.reactions");
   }
 
   Body read_body(const YAML::Node& n, const std::string& p) {

@@ -43,6 +43,7 @@ class FrameJoint final : public Joint {
   FrameJoint(Kind kind, const FrameJointGeometry& g);
 
   Kind kind() const { return kind_; }
+  const FrameJointGeometry& geometry() const { return g_; }
   NodeKind parent_kind() const override { return NodeKind::frame; }
   NodeKind child_kind() const override { return NodeKind::frame; }
   int constraint_count() const override { return m_; }

@@ -410,6 +410,7 @@ struct Solver {
 struct Output {
   int vtk_every = 1;  // write a .vtu every k steps (0 = none)
   bool history = true;
+  bool reactions = true;  // reactions.csv (with history), the joint reactions
 };
 
 struct Model {

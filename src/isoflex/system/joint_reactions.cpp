@@ -1,0 +1,53 @@
+#include "isoflex/system/joint_reactions.hpp"
+
+#include <cassert>
+
+#include "isoflex/joints/frame_joint.hpp"
+#include "isoflex/math/frame_node.hpp"
+
+namespace isoflex::system {
+
+std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, const VecX& lambda) {
+  assert(lambda.size() == sys.m_selected());
+  std::vector<int> position(static_cast<std::size_t>(sys.m_all()), -1);
+  for (int p = 0; p < sys.m_selected(); ++p)
+    position[static_cast<std::size_t>(sys.selected_rows()[static_cast<std::size_t>(p)])] = p;
+  std::vector<JointReaction> out;
+  for (const JointInstance& J : sys.joints()) {
+    if (!J.frame) continue;
+    const auto qa = sys.node_q(q, J.parent), qb = sys.node_q(q, J.child);
+    const int m = J.frame->constraint_count();
+    VecX lam = VecX::Zero(m);
+    for (int i = 0; i < m; ++i)
+      if (const int p = position[static_cast<std::size_t>(J.row_offset + i)]; p >= 0)
+        lam(i) = lambda(p);
+    const VecX f = -(J.frame->jacobian(qa, qb).transpose() * lam);  // parent 12, child 12
+    // body_b is the child unless the tree edge was reversed; the ground as body_b: the reaction
+    // on the other node, negated (at the same joint point).
+    const bool on_parent = J.reversed;
+    const int node = on_parent ? J.parent : J.child;
+    const bool ground = node < 0;
+    const bool use_parent = ground ? !on_parent : on_parent;
+    const auto& g = J.frame->geometry();
+    const frame_node::Q qn = use_parent ? qa : qb;
+    const Vec3 X = use_parent ? g.X_A : g.X_B;
+    const Mat3 C = use_parent ? g.C_A : g.C_B;
+    const Vec<12> fn = f.segment<12>(use_parent ? 0 : 12);
+    const Mat3 D = frame_node::directors(qn);
+    const Vec3 phi = qn.head<3>();
+    const Vec3 rho = D * X;
+    Vec3 F = fn.head<3>();
+    Vec3 M = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) M += D.col(i).cross(Vec3(fn.segment<3>(3 + 3 * i)));
+    M -= rho.cross(F);
+    if (ground) {
+      F = -F;
+      M = -M;
+    }
+    const Mat3 B = D * C;
+    out.push_back({J.name, phi + rho, F, M, B.transpose() * F, B.transpose() * M});
+  }
+  return out;
+}
+
+}  // namespace isoflex::system
