@@ -16,6 +16,7 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/system/joint_reactions.hpp"
 #include "support/examples.hpp"
+#include "support/models.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -40,20 +41,7 @@ const integrate::ReactionValue& reaction(const integrate::Snapshot& s, const std
 }  // namespace
 
 TEST(JointReactions, ClampOfACantileverCarriesTheTipForceAndItsMoment) {
-  const std::string text = R"(name: cantilever
-solver: {analysis: static, dt: 1, t_end: 1, linear: true}
-beams:
-  - name: beam
-    points: [[0, 0, 0], [12, 0, 0]]
-    elements: 16
-    d1: [0, 1, 0]
-    section: {EA: 1.2e5, GA: 6.0e4, EI1: 100, EI2: 1.0e4, GJ: 187.4, A_rho: 0.1, M_rho1: 1e-2,
-              M_rho2: 1e-4}
-joints:
-  - {name: clamp, type: fixed, body_a: ground, body_b: "beam[0]"}
-loads:
-  - {body: "beam[16]", force: [0.3, -0.2, "t"]}
-)";
+  const std::string text = test::cantilever_yaml(16, "[0.3, -0.2, \"t\"]");
   const model::Model m = io::read_model_string(text, "m.yaml");
   const auto sys = system::System::compile(m);
   integrate::StaticEquilibrium eq(sys, m.solver);

@@ -19,6 +19,7 @@
 #include "support/cli.hpp"
 #include "support/examples.hpp"
 #include "support/files.hpp"
+#include "support/models.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -183,22 +184,7 @@ namespace {
 // static analysis, optionally a spring from its tip to the ground point 1 below it (unstretched):
 // the tip's u_z.
 double cantilever_tip(const std::string& spring) {
-  const std::string text = R"(name: cantilever
-solver: {analysis: static, dt: 1, t_end: 1, linear: true}
-beams:
-  - name: beam
-    points: [[0, 0, 0], [12, 0, 0]]
-    elements: 32
-    d1: [0, 1, 0]
-    section: {EA: 1.2e5, GA: 6.0e4, EI1: 100, EI2: 1.0e4, GJ: 187.4, A_rho: 0.1, M_rho1: 1e-2,
-              M_rho2: 1e-4}
-joints:
-  - {name: clamp, type: fixed, body_b: "beam[0]"}
-loads:
-  - {body: "beam[32]", force: [0, 0, "t"]}
-probes:
-  - {name: tip, body: "beam[32]"}
-)" + spring;
+  const std::string text = test::cantilever_yaml(32, "[0, 0, \"t\"]", spring);
   const model::Model m = io::read_model_string(text, "m.yaml");
   const auto sys = system::System::compile(m);
   integrate::StaticEquilibrium eq(sys, m.solver);

@@ -1,6 +1,7 @@
 #pragma once
 // Small models built in C++ for tests (the same mechanisms as examples/).
 #include <cmath>
+#include <string>
 
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/model/model.hpp"
@@ -111,4 +112,30 @@ inline model::Model chain(int n, model::Formulation f = model::Formulation::repa
   m.solver.dt = 0.01;
   return m;
 }
+// A cantilever along x (L = 12, `elements` elements, the section of examples/beam_roll_up) clamped
+// at beam[0] by a fixed joint to the ground, a tip force `force` (three time functions) at
+// beam[elements], in a linear static analysis; `more` is appended (springs, probes).
+inline std::string cantilever_yaml(int elements, const std::string& force,
+                                   const std::string& more = "") {
+  const std::string tip = "\"beam[" + std::to_string(elements) + "]\"";
+  return R"(name: cantilever
+solver: {analysis: static, dt: 1, t_end: 1, linear: true}
+beams:
+  - name: beam
+    points: [[0, 0, 0], [12, 0, 0]]
+    elements: )" +
+         std::to_string(elements) + R"(
+    d1: [0, 1, 0]
+    section: {EA: 1.2e5, GA: 6.0e4, EI1: 100, EI2: 1.0e4, GJ: 187.4, A_rho: 0.1, M_rho1: 1e-2,
+              M_rho2: 1e-4}
+joints:
+  - {name: clamp, type: fixed, body_a: ground, body_b: "beam[0]"}
+loads:
+  - {body: )" +
+         tip + ", force: " + force + R"(}
+probes:
+  - {name: tip, body: )" +
+         tip + "}\n" + more;
+}
+
 }  // namespace isoflex::test

@@ -115,82 +115,69 @@ void HistoryWriter::on_finish() {
   file_.flush();
 }
 
-ProbeWriter::ProbeWriter(const std::filesystem::path& outdir, const model::Model& model) {
-  if (!model.probes.empty()) file_ = CsvFile(outdir / "probes.csv", kProbesHeader);
+void CsvRowsWriter::on_snapshot(const integrate::Snapshot& s) {
+  if (!file_) return;
+  rows(s, file_.pending());
+  file_.flush();
 }
 
-void ProbeWriter::on_snapshot(const integrate::Snapshot& s) {
-  if (!file_) return;
+void CsvRowsWriter::on_finish() {
+  file_.flush();
+}
+
+namespace {
+
+std::filesystem::path file_if(bool any, const std::filesystem::path& file) {
+  return any ? file : std::filesystem::path();
+}
+
+}  // namespace
+
+ProbeWriter::ProbeWriter(const std::filesystem::path& outdir, const model::Model& model)
+    : CsvRowsWriter(file_if(!model.probes.empty(), outdir / "probes.csv"), kProbesHeader) {}
+
+void ProbeWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   for (const auto& pr : s.probes) {
     const Vec3& x = pr.position;
     const Vec3& u = pr.displacement;
     const Vec3& v = pr.velocity;
-    fmt::format_to(std::back_inserter(file_.pending()),
+    fmt::format_to(std::back_inserter(out),
                    "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
                    "{:.17g}\n",
                    s.t, csv_field(pr.name), x.x(), x.y(), x.z(), u.x(), u.y(), u.z(), v.x(), v.y(),
                    v.z());
   }
-  file_.flush();
 }
 
-void ProbeWriter::on_finish() {
-  file_.flush();
-}
+ResultantsWriter::ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model)
+    : CsvRowsWriter(file_if(!model.beams.empty(), outdir / "resultants.csv"), kResultantsHeader) {}
 
-ResultantsWriter::ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model) {
-  if (!model.beams.empty()) file_ = CsvFile(outdir / "resultants.csv", kResultantsHeader);
-}
-
-void ResultantsWriter::on_snapshot(const integrate::Snapshot& s) {
-  if (!file_) return;
+void ResultantsWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   for (const auto& e : s.beam_elements)
-    fmt::format_to(std::back_inserter(file_.pending()),
-                   "{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t,
-                   csv_field(e.beam), e.element, e.n.x(), e.n.y(), e.n.z(), e.m.x(), e.m.y(),
-                   e.m.z());
-  file_.flush();
+    fmt::format_to(
+        std::back_inserter(out), "{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n",
+        s.t, csv_field(e.beam), e.element, e.n.x(), e.n.y(), e.n.z(), e.m.x(), e.m.y(), e.m.z());
 }
 
-void ResultantsWriter::on_finish() {
-  file_.flush();
-}
+ForcesWriter::ForcesWriter(const std::filesystem::path& outdir, const model::Model& model)
+    : CsvRowsWriter(file_if(!model.springs.empty(), outdir / "forces.csv"), kForcesHeader) {}
 
-ForcesWriter::ForcesWriter(const std::filesystem::path& outdir, const model::Model& model) {
-  if (!model.springs.empty()) file_ = CsvFile(outdir / "forces.csv", kForcesHeader);
-}
-
-void ForcesWriter::on_snapshot(const integrate::Snapshot& s) {
-  if (!file_) return;
+void ForcesWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   for (const auto& f : s.springs)
-    fmt::format_to(std::back_inserter(file_.pending()),
-                   "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t, csv_field(f.name), f.length,
-                   f.elongation, f.rate, f.force);
-  file_.flush();
+    fmt::format_to(std::back_inserter(out), "{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g}\n", s.t,
+                   csv_field(f.name), f.length, f.elongation, f.rate, f.force);
 }
 
-void ForcesWriter::on_finish() {
-  file_.flush();
-}
+ReactionsWriter::ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model)
+    : CsvRowsWriter(file_if(!model.joints.empty(), outdir / "reactions.csv"), kReactionsHeader) {}
 
-ReactionsWriter::ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model) {
-  if (!model.joints.empty()) file_ = CsvFile(outdir / "reactions.csv", kReactionsHeader);
-}
-
-void ReactionsWriter::on_snapshot(const integrate::Snapshot& s) {
-  if (!file_) return;
+void ReactionsWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   const auto v = [](const Vec3& a) {
     return fmt::format("{:.17g},{:.17g},{:.17g}", a.x(), a.y(), a.z());
   };
   for (const auto& r : s.reactions)
-    fmt::format_to(std::back_inserter(file_.pending()), "{:.17g},{},{},{},{},{},{}\n", s.t,
-                   csv_field(r.joint), v(r.point), v(r.force), v(r.moment), v(r.force_local),
-                   v(r.moment_local));
-  file_.flush();
-}
-
-void ReactionsWriter::on_finish() {
-  file_.flush();
+    fmt::format_to(std::back_inserter(out), "{:.17g},{},{},{},{},{},{}\n", s.t, csv_field(r.joint),
+                   v(r.point), v(r.force), v(r.moment), v(r.force_local), v(r.moment_local));
 }
 
 }  // namespace isoflex::io

@@ -75,49 +75,59 @@ class HistoryWriter : public integrate::Observer {
   bool path_ = false;
 };
 
-// Writes outdir/probes.csv; creates no file (and ignores all snapshots) when the model has no
-// probes.
-class ProbeWriter : public integrate::Observer {
+// A CSV file of rows per snapshot: the writers below say which rows (none and no file when the
+// model has nothing of their kind).
+class CsvRowsWriter : public integrate::Observer {
+ public:
+  void on_snapshot(const integrate::Snapshot& s) override;
+  void on_finish() override;
+
+ protected:
+  // No file (and no rows) for an empty path.
+  CsvRowsWriter(const std::filesystem::path& file, const char* header) {
+    if (!file.empty()) file_ = CsvFile(file, header);
+  }
+  // Appends the rows of s to out, each ending in '\n'.
+  virtual void rows(const integrate::Snapshot& s, std::string& out) const = 0;
+
+ private:
+  CsvFile file_;
+};
+
+// outdir/probes.csv when the model has probes.
+class ProbeWriter final : public CsvRowsWriter {
  public:
   ProbeWriter(const std::filesystem::path& outdir, const model::Model& model);
-  void on_snapshot(const integrate::Snapshot& s) override;
-  void on_finish() override;
 
  private:
-  CsvFile file_;
+  void rows(const integrate::Snapshot& s, std::string& out) const override;
 };
 
-// Writes outdir/resultants.csv; creates no file when the model has no beams.
-class ResultantsWriter : public integrate::Observer {
+// outdir/resultants.csv when the model has beams.
+class ResultantsWriter final : public CsvRowsWriter {
  public:
   ResultantsWriter(const std::filesystem::path& outdir, const model::Model& model);
-  void on_snapshot(const integrate::Snapshot& s) override;
-  void on_finish() override;
 
  private:
-  CsvFile file_;
+  void rows(const integrate::Snapshot& s, std::string& out) const override;
 };
 
-// Writes outdir/forces.csv; creates no file when the model has no springs.
-class ForcesWriter : public integrate::Observer {
+// outdir/forces.csv when the model has springs.
+class ForcesWriter final : public CsvRowsWriter {
  public:
   ForcesWriter(const std::filesystem::path& outdir, const model::Model& model);
-  void on_snapshot(const integrate::Snapshot& s) override;
-  void on_finish() override;
 
  private:
-  CsvFile file_;
+  void rows(const integrate::Snapshot& s, std::string& out) const override;
 };
 
-// Writes outdir/reactions.csv; creates no file when the model has no joints.
-class ReactionsWriter : public integrate::Observer {
+// outdir/reactions.csv when the model has joints.
+class ReactionsWriter final : public CsvRowsWriter {
  public:
   ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model);
-  void on_snapshot(const integrate::Snapshot& s) override;
-  void on_finish() override;
 
  private:
-  CsvFile file_;
+  void rows(const integrate::Snapshot& s, std::string& out) const override;
 };
 
 }  // namespace isoflex::io
