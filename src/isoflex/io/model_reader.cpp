@@ -826,18 +826,40 @@ class Reader : YamlFields {
     const YAML::Node shell = shell_is_a ? n["body_a"] : n["body_b"];
     const std::string shell_key = join(p, shell_is_a ? "body_a" : "body_b");
     const YAML::Node other = shell_is_a ? n["body_b"] : n["body_a"];
-    if (j.type != JointType::spherical)
+    if (j.type != JointType::spherical && j.type != JointType::revolute)
       fail(n["type"], join(p, "type"),
            fmt::format("\"{}\" is a Kirchhoff–Love shell: a joint at a point of its surface is "
-                       "spherical (name a control point \"{}[A]\" for a rigid attachment)",
+                       "spherical or revolute (name a control point \"{}[A]\" for a rigid "
+                       "attachment)",
                        shell.Scalar(), shell.Scalar()));
     if (kl_shell_ref(other))
       fail(other, join(p, shell_is_a ? "body_b" : "body_a"),
            "a joint between two Kirchhoff–Love shells is not built yet (multipatch coupling)");
     for (const char* k : {"point_a", "point_b"})
       if (n[k]) fail(n[k], join(p, k), "give the joint point on the shell as `point` (global)");
-    for (const char* k : {"axis", "axis_a", "axis2", "axis2_b"})
-      if (n[k]) fail(n[k], join(p, k), "not allowed for a spherical joint");
+    const bool revolute = j.type == JointType::revolute;
+    for (const char* k : {"axis", "axis_a", "axis2", "axis2_b"}) {
+      const bool allowed = revolute && (std::string(k) == "axis" || std::string(k) == "axis_a");
+      if (n[k] && !allowed)
+        fail(n[k], join(p, k), fmt::format("not allowed for a {} joint", to_string(j.type)));
+    }
+    if (revolute) {
+      if (n["axis"] && n["axis_a"])
+        fail(n["axis_a"], join(p, "axis_a"), "give at most one of axis, axis_a");
+      if (!n["axis"] && !n["axis_a"])
+        fail(n, p, "a revolute joint at a shell point requires `axis` (or `axis_a`)");
+      // axis_a: in the coordinates of the side that is not the shell.
+      if (n["axis_a"] && shell_is_a)
+        fail(n["axis_a"], join(p, "axis_a"),
+             "body_a is the shell: give the axis globally as `axis` (at t = 0)");
+      if (n["axis_a"] && !other)
+        fail(n["axis_a"], join(p, "axis_a"), "the other side is the ground: give `axis`");
+      const YAML::Node ax = n["axis"] ? n["axis"] : n["axis_a"];
+      const std::string key = join(p, n["axis"] ? "axis" : "axis_a");
+      const Vec3 v = vec3(ax, key);
+      if (!(v.norm() > 0.0)) fail(ax, key, "the axis must be nonzero");
+      (n["axis"] ? j.axis : j.axis_a) = v.normalized();
+    }
     j.kl_shell = shell.Scalar();
     j.body_b = j.kl_shell;
     j.body_a = other ? body_ref(other, join(p, shell_is_a ? "body_b" : "body_a"), true) : "ground";

@@ -17,6 +17,7 @@
 #include "isoflex/joints/joint_rows.hpp"
 #include "isoflex/joints/linear_rows.hpp"
 #include "isoflex/joints/point_joints.hpp"
+#include "isoflex/joints/quadratic_rows.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
 #include "isoflex/loads/patch_edge.hpp"
@@ -631,12 +632,16 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
   nary_.push_back({what, "kl_support_rows", std::move(constraint), 0, S.source});
 }
 
-// Spherical joints at points of a Kirchhoff–Love patch: the patch's material point Σ R_A(ξ, η) φ_A
+// Joints at points of a Kirchhoff–Love patch: the patch's material point Σ R_A(ξ, η) φ_A
 // (IGA-thesis (4.20), (ξ, η) from the point projection (4.14)–(4.15) of the reader) and the
 // other side's material point φ + X_I d_I (a frame node) or a fixed point coincide: three rows,
-// linear in all coordinates, so a LinearRows constraint over the frame node and the control
-// points whose functions do not vanish there (joints/linear_rows.hpp). Translating or rotating
-// both sides together keeps the rows, so momentum is conserved with them.
+// linear in all coordinates. A revolute joint adds two rows that keep the axis, a vector Y_I d_I
+// fixed in the body, in its place relative to the patch (docs/theory/coupling.md §7):
+//   axis normal to the surface at t = 0:   a_α · (Y_I d_I) = 0,  α = 1, 2 (a_α = Σ R_A,α φ_A);
+//   axis tangent to it, axis = c^α a_α:    (c^α a_α) · (Z^k_I d_I) = 0,  k = 1, 2, Z^k ⊥ Y;
+// bilinear in the coordinates, so a QuadraticRows constraint (joints/quadratic_rows.hpp) over the
+// frame node and the control points whose functions do not vanish there. Translating or rotating
+// both sides together keeps every row, so momentum is conserved with them.
 void System::add_kl_surface_joints(Build& build) {
   const model::Model& model = build.model;
   for (std::size_t k = 0; k < model.kl_surface_joints.size(); ++k) {
@@ -653,26 +658,95 @@ void System::add_kl_surface_joints(Build& build) {
                        J.body_a));
     const geometry::NurbsSurface& g = patch->element->patch().reference();
     const geometry::SurfaceBasis B = geometry::surface_basis(g, J.xi, J.eta);
+    const bool revolute = J.type == model::JointType::revolute;
     std::vector<int> nodes;
+    std::vector<int> functions;  // local functions that (or whose derivatives) do not vanish there
     if (body >= 0) nodes.push_back(body);
     for (int a = 0; a < B.R.cols(); ++a)
-      if (B.R(0, a) != 0.0) nodes.push_back(patch->nodes[B.global_index(g, a)]);
-    const int off = body >= 0 ? 12 : 0;
-    MatX C = MatX::Zero(3, off + 3 * (static_cast<int>(nodes.size()) - (body >= 0 ? 1 : 0)));
-    int col = off;
-    for (int a = 0; a < B.R.cols(); ++a)
-      if (B.R(0, a) != 0.0) {
-        C.middleCols<3>(col) = B.R(0, a) * Mat3::Identity();
-        col += 3;
+      if (B.R(0, a) != 0.0 || (revolute && (B.R(1, a) != 0.0 || B.R(2, a) != 0.0))) {
+        nodes.push_back(patch->nodes[B.global_index(g, a)]);
+        functions.push_back(a);
       }
+    const int off = body >= 0 ? 12 : 0;
+    const int n = off + 3 * static_cast<int>(functions.size());
+    // x ↦ 3 × n maps: the patch's point (derivative d = 0) or tangent a_d (d = 1, 2).
+    const auto patch_map = [&](int d) {
+      MatX M = MatX::Zero(3, n);
+      for (std::size_t i = 0; i < functions.size(); ++i)
+        M.middleCols<3>(off + 3 * static_cast<int>(i)) = B.R(d, functions[i]) * Mat3::Identity();
+      return M;
+    };
+    // The body's vector Y_I d_I (3 × n; zero columns for the ground).
+    const auto body_map = [&](const Vec3& Y) {
+      MatX M = MatX::Zero(3, n);
+      for (int i = 0; i < 3 && body >= 0; ++i) M.middleCols<3>(3 + 3 * i) = Y(i) * Mat3::Identity();
+      return M;
+    };
+    const int rows = revolute ? 5 : 3;
+    std::vector<MatX> H(static_cast<std::size_t>(rows));
+    MatX C = MatX::Zero(rows, n);
+    VecX c = VecX::Zero(rows);
+    C.topRows<3>() = patch_map(0);
     if (body >= 0) {
       const Vec3 X = body_coordinates(body, J.point, std::nullopt);
-      C.leftCols<3>() = -Mat3::Identity();
-      for (int i = 0; i < 3; ++i) C.middleCols<3>(3 + 3 * i) = -X(i) * Mat3::Identity();
+      C.block<3, 3>(0, 0) = -Mat3::Identity();
+      C.topRows<3>() -= body_map(X);
     }
-    nary_.push_back({what, "spherical_at_shell_point",
-                     std::make_shared<joints::LinearRows>(nodes, std::move(C), stacked(q0_, nodes)),
-                     0, J.source});
+    const VecX q0 = stacked(q0_, nodes);
+    if (revolute) {
+      const Vec3 a1 = patch_map(1) * q0, a2 = patch_map(2) * q0;
+      const Vec3 normal = a1.cross(a2).normalized();
+      const Mat3 D0 = body >= 0 ? Mat3(frame_node::directors(node_q(q0_, body))) : Mat3::Identity();
+      const Vec3 axis = J.axis ? *J.axis : Vec3(D0 * *J.axis_a);  // global at t = 0
+      const double cos_n = std::abs(axis.dot(normal));
+      // The body vectors the patch's vectors stay perpendicular to, and those patch vectors.
+      std::array<Vec3, 2> body_vectors;
+      std::array<MatX, 2> patch_vectors;
+      if (cos_n > 1.0 - 1e-9) {
+        body_vectors = {axis, axis};
+        patch_vectors = {patch_map(1), patch_map(2)};
+      } else if (cos_n < 1e-9) {
+        Eigen::Matrix<double, 3, 2> A;
+        A << a1, a2;
+        const Eigen::Vector2d cc = A.colPivHouseholderQr().solve(axis);
+        const Vec3 z1 =
+            axis.cross(std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).normalized();
+        body_vectors = {z1, axis.cross(z1)};
+        const MatX t = cc(0) * patch_map(1) + cc(1) * patch_map(2);
+        patch_vectors = {t, t};
+      } else {
+        fail(J.source, what + (J.axis ? ".axis" : ".axis_a"),
+             fmt::format("the axis makes {:.6g}° with the normal of '{}' at the joint point: a "
+                         "revolute joint at a shell point takes an axis normal or tangent to the "
+                         "surface there (within 1e-9)",
+                         std::acos(std::min(1.0, cos_n)) * 180.0 / M_PI, J.kl_shell));
+      }
+      for (int r = 0; r < 2; ++r) {
+        const Vec3& v = body_vectors[static_cast<std::size_t>(r)];
+        const MatX& T = patch_vectors[static_cast<std::size_t>(r)];
+        if (body >= 0) {
+          const MatX M = body_map(D0.transpose() * v);  // v = Y_I d_I at t = 0
+          const MatX TM = T.transpose() * M;
+          H[static_cast<std::size_t>(3 + r)] = TM + TM.transpose();
+        } else {
+          C.row(3 + r) = v.transpose() * T;
+        }
+      }
+    }
+    // Φ(q₀) = 0 exactly: the point projection leaves the two points up to its tolerance apart,
+    // and the normal/tangent test accepts an axis within 1e-9.
+    for (int r = 0; r < rows; ++r) {
+      const MatX& h = H[static_cast<std::size_t>(r)];
+      c(r) = -(C.row(r).dot(q0) + (h.size() != 0 ? 0.5 * q0.dot(h * q0) : 0.0));
+    }
+    try {
+      nary_.push_back(
+          {what, revolute ? "revolute_at_shell_point" : "spherical_at_shell_point",
+           std::make_shared<joints::QuadraticRows>(nodes, std::move(H), std::move(C), std::move(c)),
+           0, J.source});
+    } catch (const std::invalid_argument& e) {
+      fail(J.source, what, e.what());
+    }
   }
 }
 
