@@ -155,7 +155,7 @@ TEST(ViscoelasticBeam, CliReportsTheStartAndTheDissipation) {
   EXPECT_NE(summary.find("\"dissipated_energy\": "), std::string::npos);
   const std::string history = test::read_text((dir.path() / "out" / "history.csv").string());
   EXPECT_EQ(history.rfind("t,kinetic_energy", 0), 0u);
-  EXPECT_NE(history.find(",residual,dissipated_energy\n"), std::string::npos);
+  EXPECT_NE(history.find(",residual,dissipated_energy,external_work\n"), std::string::npos);
 }
 
 // solver.initial_equilibrium is for dynamic runs; a count, at most 10 000.

@@ -601,6 +601,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   }
   sum.energy_final = snap.total_energy;
   if (model::has_material_damping(m)) sum.dissipated_energy = snap.dissipated_energy;
+  if (model::has_external_loads(m)) sum.external_work = snap.external_work;
   sum.probes = snap.probes;
   try {
     io::write_summary_json(outdir / "summary.json", sum);

@@ -399,6 +399,8 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     const VecX dq = q1 - s.q;
     s.dissipated += sys_.viscous_force(0.5 * (s.q + q1), dq / c.dt, 0, 0, nullptr).dot(dq);
   }
+  if (!sys_.loads().empty())
+    s.external_work += sys_.load_force(0.5 * (s.q + q1), c.t_mid).dot(q1 - s.q);
   s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
   s.q = q1;
   s.t += c.dt;
@@ -438,6 +440,7 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
   out.potential_energy = sys_.potential(s.q);
   out.total_energy = out.kinetic_energy + out.potential_energy;
   out.dissipated_energy = s.dissipated;
+  out.external_work = s.external_work;
   out.linear_momentum = sys_.linear_momentum(s.v);
   out.angular_momentum = sys_.angular_momentum(s.q, s.v);
   out.constraint_violation = sys_.constraints(s.q, s.t).lpNorm<Eigen::Infinity>();

@@ -65,13 +65,14 @@ class HistoryWriter : public integrate::Observer {
  public:
   // path_column: the name of the path-parameter column, empty for none.
   HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
-                const std::string& path_column = {});
+                const std::string& path_column = {}, bool external_work = false);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
  private:
   CsvFile file_;
   bool dissipated_ = false;
+  bool work_ = false;
   bool path_ = false;
 };
 

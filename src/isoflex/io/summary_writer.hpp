@@ -33,6 +33,7 @@ struct RunSummary {
   // drift above is then that of energy + dissipated energy), and the load steps of the static
   // equilibrium the run started from (solver.initial_equilibrium).
   std::optional<double> dissipated_energy;
+  std::optional<double> external_work;  // a dynamic run with loads: their work since t = 0
   std::optional<int> initial_equilibrium_load_steps;
   std::vector<integrate::ProbeValue> probes;
   // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"

@@ -91,6 +91,12 @@ bool has_material_damping(const Model& m) {
   return false;
 }
 
+bool has_external_loads(const Model& m) {
+  return m.solver.analysis == Analysis::dynamic &&
+         !(m.loads.empty() && m.distributed_loads.empty() && m.shell_loads.empty() &&
+           m.kl_loads.empty());
+}
+
 std::string step_count_problem(const Solver& s) {
   // snprintf, not fmt: the model room depends on math and geometry only.
   char text[256];

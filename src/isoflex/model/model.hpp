@@ -457,6 +457,9 @@ std::string step_count_problem(const Solver& s);
 // shells material or a beam section) or dampers (springs with damping > 0): history.csv gets the
 // dissipated_energy column.
 bool has_material_damping(const Model& m);
+// Whether a dynamic run has external loads (loads, distributed_loads, shell_loads, kl_loads):
+// history.csv then gets `external_work`, their work since t = 0.
+bool has_external_loads(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
 

@@ -231,6 +231,12 @@ VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) 
   return f;
 }
 
+VecX System::load_force(const VecX& q, double t) const {
+  VecX f = VecX::Zero(n()), fext = VecX::Zero(n());
+  add_load_forces(q, t, 1.0, f, nullptr, &fext);
+  return fext;
+}
+
 VecX System::viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const {
   VecX f = VecX::Zero(n());
   add_element_forces(

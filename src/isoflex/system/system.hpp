@@ -222,6 +222,8 @@ class System {
   // schemes evaluate it at (q_{n+½}, Δq/Δt) with cq = ½, cv = 1/Δt; the DAE schemes at (q, q̇(q))
   // with cq = 1, cv = γ′ (IGA-thesis (2.27), C_t).
   VecX viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const;
+  // The generalized external loads f_ext(q, t) (positive: the force the loads exert).
+  VecX load_force(const VecX& q, double t) const;
 
   // Constraints at time t, all rows: Φ(q) − d(t), d(t) the right-hand sides of the rheonomic
   // rows (joints/constraint.hpp) and 0 elsewhere.
