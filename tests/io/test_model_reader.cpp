@@ -316,7 +316,7 @@ TEST(ModelReader, UnknownKey) {
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, scaling, dt, t_end, residual_tolerance, increment_tolerance, max_iterations, "
-      "max_subdivisions, linear, initial_equilibrium, path_following)");
+      "max_subdivisions, linear, initial_equilibrium, path_following, cosimulation)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "

@@ -22,6 +22,8 @@ PointSpringDamper::PointSpringDamper(std::vector<int> nodes, int coordinates, Ma
         "PointSpringDamper: stiffness, damping and free length must be "
         "finite and ≥ 0");
   D_ = a.P - b.P;
+  ca_ = a.c;
+  cb_ = b.c;
   e_ = a.c - b.c;
   if ((law.free_length > 0.0 || law.damping > 0.0) && !(difference(q0).norm() > 0.0))
     throw std::invalid_argument(
@@ -67,7 +69,13 @@ VecX PointSpringDamper::discrete_gradient(const VecX& qn, const VecX& qn1, MatX*
 double PointSpringDamper::rate(const VecX& q, const VecX& qdot) const {
   const Vec3 d = difference(q);
   const double z = d.norm();
-  return z > 0.0 ? d.dot(D_ * qdot) / z : 0.0;
+  return z > 0.0 ? d.dot(D_ * qdot + w_) / z : 0.0;
+}
+
+void PointSpringDamper::move_anchor(int end, const Vec3& point, const Vec3& velocity) {
+  (end == 0 ? ca_ : cb_) = point;
+  e_ = ca_ - cb_;
+  w_ = end == 0 ? velocity : Vec3(-velocity);
 }
 
 double PointSpringDamper::force(const VecX& q, const VecX& qdot) const {
@@ -80,12 +88,12 @@ VecX PointSpringDamper::viscous_force_in_pattern(const VecX& q, const VecX& qdot
                                                  double cv, double* values) const {
   const double c = law_.damping;
   if (!(c > 0.0)) return VecX::Zero(n_);
-  const Vec3 d = difference(q), u = D_ * qdot;
+  const Vec3 d = difference(q), u = D_ * qdot + w_;
   const double z2 = d.squaredNorm(), r = d.dot(u);
   const VecX Dd = D_.transpose() * d;
   if (values) {
     Eigen::Map<MatX> K(values, n_, n_);  // the dense pattern, column-major
-    const VecX Du = D_.transpose() * u;
+    const VecX Du = D_.transpose() * u;  // ∂/∂q at fixed w
     K += (cv * c / z2) * Dd * Dd.transpose();
     K += (cq * c / z2) * (Dd * Du.transpose() + r * D_.transpose() * D_) -
          (cq * 2.0 * c * r / (z2 * z2)) * Dd * Dd.transpose();

@@ -48,6 +48,10 @@ class PointSpringDamper final : public Element {
                                 double* values) const override;
 
   const SpringDamperLaw& law() const { return law_; }
+  // Moves end `end` (0: a, 1: b), a point of the ground (its map P = 0), to `point`, moving at
+  // `velocity`: the anchor of a co-simulation (integrate/cosimulation.hpp), held over a step.
+  // The rate ζ̇ and the damper then see the anchor's velocity.
+  void move_anchor(int end, const Vec3& point, const Vec3& velocity);
   // The distance ζ = |x₁ − x₂|, its rate ζ̇ and the force N = k (ζ − L) + c ζ̇ (tension > 0).
   double length(const VecX& q) const;
   double rate(const VecX& q, const VecX& qdot) const;
@@ -59,6 +63,8 @@ class PointSpringDamper final : public Element {
   int n_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> D_;
   Vec3 e_;
+  Vec3 ca_, cb_;           // the ends' constants, e = c_a − c_b
+  Vec3 w_ = Vec3::Zero();  // the anchor's part of ḋ: ḋ = D q̇ + w
   SpringDamperLaw law_;
 };
 

@@ -190,7 +190,7 @@ class Reader : YamlFields {
     check_keys(n, "solver",
                {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
                 "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
-                "linear", "initial_equilibrium", "path_following"});
+                "linear", "initial_equilibrium", "path_following", "cosimulation"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -247,11 +247,38 @@ class Reader : YamlFields {
         fail(v, "solver.initial_equilibrium", "at most 10000 load steps");
     }
     if (const auto v = n["path_following"]) read_path_following(v, s);
+    if (const auto v = n["cosimulation"]) read_cosimulation(v, s);
     // The step count of the file's own dt and t_end (command-line overrides: app load()).
     if (const std::string problem = model::step_count_problem(s); !problem.empty()) {
       if (const auto v = n["t_end"]) fail(v, "solver.t_end", problem);
       fail(n["dt"], "solver.dt", problem);  // the default t_end: dt is the one given
     }
+  }
+
+  void read_cosimulation(const YAML::Node& n, model::Solver& s) const {
+    const std::string p = "solver.cosimulation";
+    expect_map(n, p);
+    check_keys(n, p, {"macro_step", "hold"});
+    model::CoSimulation c;
+    c.line = line_of(n);
+    const YAML::Node H = require(n, p, "macro_step");
+    c.macro_step = positive(H, join(p, "macro_step"));
+    const double ratio = c.macro_step / s.dt;
+    if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio)
+      fail(H, join(p, "macro_step"),
+           fmt::format("{:g} is not a whole multiple of solver.dt = {:g} (the integrators take "
+                       "steps of dt between the exchanges)",
+                       c.macro_step, s.dt));
+    if (const auto v = n["hold"]) {
+      const std::string name = string(v, join(p, "hold"));
+      if (name == "constant")
+        c.hold = model::CoSimulationHold::constant;
+      else if (name != "linear")
+        fail(v, join(p, "hold"), "unknown hold \"" + name + "\" (valid: constant, linear)");
+    }
+    if (s.analysis != model::Analysis::dynamic)
+      fail(n, p, "co-simulation is for a dynamic analysis");
+    s.cosimulation = c;
   }
 
   void read_path_following(const YAML::Node& n, model::Solver& s) const {

@@ -385,6 +385,19 @@ struct PathFollowing {
   int line = 0;  // of the path_following entry in the model file
 };
 
+// Co-simulation (IGA-thesis §6.3.2, Fig. 6.8): the Kirchhoff–Love shells and the rest of the
+// model integrated by separate integrators, exchanging the positions and velocities of the
+// springs' end points every macro step H (serial: the shells first, with the other side's points
+// extrapolated from t_k, then the rest, with the shells' points interpolated between t_k and
+// t_k + H). integrate/cosimulation.hpp.
+enum class CoSimulationHold { constant, linear };
+
+struct CoSimulation {
+  double macro_step = 0.0;  // H, a whole multiple of dt
+  CoSimulationHold hold = CoSimulationHold::linear;
+  int line = 0;  // of the cosimulation entry in the model file
+};
+
 struct Solver {
   Analysis analysis = Analysis::dynamic;
   Formulation formulation = Formulation::reparametrized;
@@ -404,7 +417,8 @@ struct Solver {
   // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
   // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
   int initial_equilibrium = 0;
-  PathFollowing path;  // static analyses only
+  PathFollowing path;                        // static analyses only
+  std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
 };
 
 struct Output {

@@ -137,6 +137,7 @@ struct ProbeInstance {
 struct SpringInstance {
   std::string name;
   int element_index = -1;
+  int ground_end = -1;  // 0 (a) or 1 (b) when that end is a point of the ground
 };
 
 class System {
@@ -272,6 +273,10 @@ class System {
   const std::vector<ProbeInstance>& probes() const { return probes_; }
   // The spring–dampers (model springs) and their elements in elements().
   const std::vector<SpringInstance>& springs() const { return springs_; }
+  // Moves the ground end of spring s (springs()[s].ground_end ≥ 0) to `point`, moving at
+  // `velocity` (seen by its damper): the anchor a co-simulation gives the other side's point
+  // (integrate/cosimulation.hpp). Between steps only.
+  void move_spring_anchor(int s, const Vec3& point, const Vec3& velocity);
   // The probe's material point in q (its velocity: the same map applied to v).
   Vec3 probe_point(const VecX& q, const ProbeInstance& p) const;
   // The gradient of direction · probe_point(q) as (coordinate, value) pairs: constant, as every

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cassert>
 #include <map>
 
 #include "isoflex/elements/point_spring_damper.hpp"
@@ -56,12 +57,20 @@ void System::add_springs(const model::Model& m, const NodeFinder& find) {
       auto element =
           std::make_unique<elements::PointSpringDamper>(nodes, n, maps[0], maps[1], law, q0e);
       viscous_ = viscous_ || element->viscous();
-      springs_.push_back({S.name, static_cast<int>(elements_.size())});
+      springs_.push_back(
+          {S.name, static_cast<int>(elements_.size()), !ends[0] ? 0 : (!ends[1] ? 1 : -1)});
       elements_.push_back(std::move(element));
     } catch (const std::invalid_argument& e) {
       compile_fail(S.source, what, e.what());
     }
   }
+}
+
+void System::move_spring_anchor(int s, const Vec3& point, const Vec3& velocity) {
+  const SpringInstance& S = springs_.at(static_cast<std::size_t>(s));
+  assert(S.ground_end >= 0);
+  static_cast<elements::PointSpringDamper&>(*elements_[static_cast<std::size_t>(S.element_index)])
+      .move_anchor(S.ground_end, point, velocity);
 }
 
 }  // namespace isoflex::system
