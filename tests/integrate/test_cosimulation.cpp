@@ -8,13 +8,16 @@
 // couplings are located errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "isoflex/integrate/cosimulation.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/cli.hpp"
 #include "support/examples.hpp"
+#include "support/files.hpp"
 #include "support/trajectory.hpp"
 
 using namespace isoflex;
@@ -97,7 +100,7 @@ TEST(CoSimulation, ConvergesToTheMonolithicRunAsTheMacroStepFalls) {
     }
     // The constant hold keeps the total energy: the serial exchange telescopes (each part keeps
     // its energy with its anchor held, and the crossing springs' energies cancel between the
-    // two halves; docs/theory/coupling.md §8). The linear hold does not, and its error falls
+    // two halves; docs/theory/coupling.md §7). The linear hold does not, and its error falls
     // with H.
     for (std::size_t i = 0; i < energy.size(); ++i) {
       if (linear) {
@@ -161,4 +164,44 @@ TEST(CoSimulation, CouplingsOtherThanSpringsAreLocatedErrors) {
   EXPECT_NE(error("kl_supports:\n  - {shell: plate, edge: u0, fixed: all, body: a}\n")
                 .find("the support attaches 'plate' to the body 'a'"),
             std::string::npos);
+}
+
+// What a user sees: `isoflex check` prints the split, `isoflex run` the co-simulated run with
+// one history row per macro step and the crossing springs in forces.csv; an H that is not a
+// multiple of dt is a located error of the file.
+TEST(CoSimulation, CheckAndRunThroughTheCli) {
+  const test::TempDir dir(test::temp_dir("isoflex_", "cosimulation_cli"));
+  const std::string model = (dir.path() / "m.yaml").string();
+  const std::string text =
+      test::replaced(test::replaced(test::example_text("springs_free_flight", "model.yaml"),
+                                    "t_end: 2", "t_end: 0.2"),
+                     "solver:", "solver:\n  cosimulation: {macro_step: 0.02}");
+  test::write_text(model, text);
+  const auto check = test::run_isoflex("check " + model);
+  ASSERT_EQ(check.code, 0) << check.out;
+  EXPECT_NE(check.out.find("co-simulation    macro step 0.02 (2 steps of dt), hold linear: shell "
+                           "part 72 unknowns, multibody part 12 unknowns, 2 springs across"),
+            std::string::npos)
+      << check.out;
+  const auto run = test::run_isoflex("run " + model + " -o " + (dir.path() / "out").string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("10 steps, 84 unknowns (reparametrized, co-simulation (H = 0.02, hold "
+                         "linear))"),
+            std::string::npos)
+      << run.out;
+  const std::string history = test::read_text((dir.path() / "out" / "history.csv").string());
+  EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 12);  // header, t = 0 … 0.2
+  const std::string forces = test::read_text((dir.path() / "out" / "forces.csv").string());
+  std::size_t at = forces.size() - 1;  // the last three rows: t = 0.2, the three springs
+  for (int k = 0; k < 3; ++k) at = forces.rfind('\n', at - 1);
+  const std::string last_rows = forces.substr(at + 1);
+  for (const char* s : {",a_plate,", ",plate_b,", ",a_b,"})
+    EXPECT_NE(last_rows.find(s), std::string::npos) << s << "\n" << last_rows;
+  test::write_text(model, test::replaced(text, "macro_step: 0.02", "macro_step: 0.015"));
+  const auto bad = test::run_isoflex("check " + model);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("m.yaml:9: solver.cosimulation.macro_step: 0.015 is not a whole "
+                         "multiple of solver.dt = 0.01"),
+            std::string::npos)
+      << bad.out;
 }

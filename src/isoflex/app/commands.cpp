@@ -17,6 +17,7 @@
 #include "isoflex/app/interrupt.hpp"
 #include "isoflex/app/run_outputs.hpp"
 #include "isoflex/elements/point_spring_damper.hpp"
+#include "isoflex/integrate/cosimulation.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/initial_equilibrium.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -401,6 +402,19 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                    ? fmt::format(", rho_infinity {:g}", so.rho_infinity)
                    : std::string(),
                so.scaling ? "scaled" : "not scaled");
+  if (const auto& co = l->model.solver.cosimulation) {
+    try {
+      const integrate::CoSimulation cs(l->model);
+      fmt::print(out,
+                 "co-simulation    macro step {:g} ({} steps of dt), hold {}: shell part {} "
+                 "unknowns, multibody part {} unknowns, {} springs across\n",
+                 cs.macro_step(), cs.micro_steps(), model::to_string(co->hold), cs.shell_unknowns(),
+                 cs.mbs_unknowns(), cs.crossing_springs());
+    } catch (const system::CompileError& e) {
+      fmt::print(err, "error: {}\n", e.what());
+      return kExitBadInput;
+    }
+  }
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
                "warning          initial velocities violate the joints; projected (relative change "
@@ -486,9 +500,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   double path = 0.0;  // the path parameter of the last load step (path following)
   // After every step (time step or accepted load step): the summary's figures, the outputs, and
   // the end of the run if a signal came.
-  const auto record = [&](const integrate::StepStats& st) {
-    integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
-    next.path = path;
+  // `next` the step's snapshot, of `state` (a co-simulation: of its multibody part's).
+  const auto record_snapshot = [&](const integrate::Snapshot& next, const integrate::StepStats& st,
+                                   const integrate::State& state) {
     // Checked before anything of the step is recorded: the outputs end with the last finite step.
     if (const std::string bad = non_finite_results(next, state); !bad.empty())
       throw integrate::NewtonFailure(fmt::format("{} {} (t = {:.6g}): non-finite results: {}",
@@ -506,6 +520,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                        std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
     throw_if_interrupted();
+  };
+  const auto record = [&](const integrate::StepStats& st) {
+    integrate::Snapshot next = integrate::snapshot(sys, state, st, names);
+    next.path = path;
+    record_snapshot(next, st, state);
   };
   const auto t0 = std::chrono::steady_clock::now();
   int code = 0;
@@ -551,6 +570,19 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       if (!result.stopped.empty()) {
         sum.message = result.stopped;
         fmt::print(err, "warning: {}\n", result.stopped);
+      }
+    } else if (m.solver.cosimulation) {
+      doing = "while setting up the co-simulation";
+      integrate::CoSimulation co(m);
+      const double H = co.macro_step();
+      sum.formulation += fmt::format(", co-simulation (H = {:g}, hold {})", H,
+                                     model::to_string(m.solver.cosimulation->hold));
+      sum.n_unknowns = co.mbs_unknowns() + co.shell_unknowns();
+      const int steps = static_cast<int>(std::lround(m.solver.t_end / H));
+      for (int i = 0; i < steps; ++i) {
+        doing = fmt::format("in macro step {} (t = {:.6g})", i + 1, co.t() + H);
+        const integrate::StepStats st = co.advance();
+        record_snapshot(co.snapshot(st), st, co.mbs_state());
       }
     } else {
       doing = "while setting up the time stepping";

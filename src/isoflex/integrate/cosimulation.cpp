@@ -199,6 +199,9 @@ CoSimulation::CoSimulation(const model::Model& m)
 
 CoSimulation::~CoSimulation() = default;
 
+int CoSimulation::crossing_springs() const {
+  return static_cast<int>(crossing_.size());
+}
 int CoSimulation::mbs_unknowns() const {
   return mbs_integ_->unknowns();
 }

@@ -38,6 +38,9 @@ class CoSimulation {
   double macro_step() const { return H_; }
   int micro_steps() const { return micro_; }  // per macro step, H / dt
   int macro_steps_taken() const { return k_; }
+  int crossing_springs() const;
+  const State& mbs_state() const { return mbs_state_; }
+  const State& shell_state() const { return shell_state_; }
   const system::System& mbs() const { return *mbs_; }
   const system::System& shell() const { return *shell_; }
   // The unknowns of one Newton iteration of each part.

@@ -91,6 +91,10 @@ bool has_material_damping(const Model& m) {
   return false;
 }
 
+const char* to_string(CoSimulationHold h) {
+  return h == CoSimulationHold::linear ? "linear" : "constant";
+}
+
 bool has_external_loads(const Model& m) {
   return m.solver.analysis == Analysis::dynamic &&
          !(m.loads.empty() && m.distributed_loads.empty() && m.shell_loads.empty() &&

@@ -456,6 +456,7 @@ std::optional<JointType> joint_type_from_string(const std::string& s);
 const char* to_string(Formulation f);
 std::optional<Formulation> formulation_from_string(const std::string& s);
 const char* to_string(Integrator i);
+const char* to_string(CoSimulationHold h);
 std::optional<Integrator> integrator_from_string(const std::string& s);
 
 // At most this many steps (time steps, or load steps of a static analysis) in a run: a run

@@ -636,7 +636,7 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
 // (IGA-thesis (4.20), (ξ, η) from the point projection (4.14)–(4.15) of the reader) and the
 // other side's material point φ + X_I d_I (a frame node) or a fixed point coincide: three rows,
 // linear in all coordinates. A revolute joint adds two rows that keep the axis, a vector Y_I d_I
-// fixed in the body, in its place relative to the patch (docs/theory/coupling.md §7):
+// fixed in the body, in its place relative to the patch (docs/theory/coupling.md §6):
 //   axis normal to the surface at t = 0:   a_α · (Y_I d_I) = 0,  α = 1, 2 (a_α = Σ R_A,α φ_A);
 //   axis tangent to it, axis = c^α a_α:    (c^α a_α) · (Z^k_I d_I) = 0,  k = 1, 2, Z^k ⊥ Y;
 // bilinear in the coordinates, so a QuadraticRows constraint (joints/quadratic_rows.hpp) over the
