@@ -122,3 +122,39 @@ TEST(SliderCrankShellRod, ShellBeamAndRigidRodsAgreeAndDampingCalmsTheSlider) {
   EXPECT_LT(std::abs(shell_vib - beam_vib), 0.3 * beam_vib);
   EXPECT_LT(damped_vib, 0.2 * shell_vib);
 }
+
+// The reactions of the joints at shell points (reactions.csv, on the strip about its material
+// point): the crank, whose centre does not move, carries the shaft's force to its pin; the
+// slider's momentum changes by the guide's force minus the pin's on the strip; a revolute pin
+// transmits no moment about its axis.
+TEST(SliderCrankShellRod, PinReactionsBalanceTheCrankAndTheSlider) {
+  const test::Trajectory r = test::simulate(variant("model.yaml", 0.1), F::reparametrized);
+  const auto find = [](const integrate::Snapshot& s, const std::string& joint) {
+    for (const auto& x : s.reactions)
+      if (x.joint == joint) return x;
+    ADD_FAILURE() << joint;
+    return integrate::ReactionValue{};
+  };
+  const double dt = 1e-3, slider_mass = 1.0;
+  double crank = 0.0, slider = 0.0, axial_moment = 0.0, scale = 0.0;
+  for (std::size_t i = 1; i < r.snapshots.size(); ++i) {
+    const auto& s = r.snapshots[i];
+    const auto shaft = find(s, "shaft"), guide = find(s, "guide"), pin_c = find(s, "crank_pin"),
+               pin_s = find(s, "slider_pin");
+    scale = std::max(scale, pin_s.force.norm());
+    crank = std::max(crank, (shaft.force - pin_c.force).norm());
+    const double dv =
+        r.snapshots[i].probes[0].velocity.x() - r.snapshots[i - 1].probes[0].velocity.x();
+    slider =
+        std::max(slider, std::abs(slider_mass * dv / dt - (guide.force.x() - pin_s.force.x())));
+    axial_moment = std::max({axial_moment, std::abs(pin_c.moment.z()), std::abs(pin_s.moment.z())});
+  }
+  std::printf(
+      "  [shell rod] pins: max |F_shaft - F_crank_pin| %.2e, slider balance %.2e, "
+      "max |M_z| %.2e (forces up to %.3g N)\n",
+      crank, slider, axial_moment, scale);
+  EXPECT_GT(scale, 0.1);
+  EXPECT_LT(crank, 1e-8 * scale);
+  EXPECT_LT(slider, 1e-7 * scale);  // measured 8.4e-9 N: the Newton tolerance
+  EXPECT_LT(axial_moment, 1e-8 * scale * 0.1);
+}

@@ -172,7 +172,9 @@ void ForcesWriter::rows(const integrate::Snapshot& s, std::string& out) const {
 }
 
 ReactionsWriter::ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model)
-    : CsvRowsWriter(file_if(!model.joints.empty(), outdir / "reactions.csv"), kReactionsHeader) {}
+    : CsvRowsWriter(file_if(!model.joints.empty() || !model.kl_surface_joints.empty(),
+                            outdir / "reactions.csv"),
+                    kReactionsHeader) {}
 
 void ReactionsWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   const auto v = [](const Vec3& a) {

@@ -47,6 +47,34 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     const Mat3 B = D * C;
     out.push_back({J.name, phi + rho, F, M, B.transpose() * F, B.transpose() * M});
   }
+  // Joints at shell points: the reaction on the shell (body_b), the net force and moment of the
+  // rows' forces on the control points about the shell's material point; local components in
+  // the body's directors (global with the ground).
+  for (const ShellPointJointInstance& s : sys.shell_point_joints()) {
+    const ConstraintInstance& c = sys.nary_constraints()[static_cast<std::size_t>(s.constraint)];
+    const auto& nodes = c.constraint->nodes();
+    const int m = c.constraint->constraint_count();
+    VecX lam = VecX::Zero(m);
+    for (int i = 0; i < m; ++i)
+      if (const int p = position[static_cast<std::size_t>(c.row_offset + i)]; p >= 0)
+        lam(i) = lambda(p);
+    const VecX f = -(c.constraint->jacobian(sys.stacked(q, nodes)).transpose() * lam);
+    Vec3 p = Vec3::Zero();
+    for (const auto& [node, w] : s.point) p += w * Vec3(sys.node_q(q, node).head<3>());
+    Vec3 F = Vec3::Zero(), M = Vec3::Zero();
+    int o = 0;
+    for (int node : nodes) {
+      if (sys.node_kind(node) == NodeKind::point) {
+        const Vec3 fa = f.segment<3>(o);
+        F += fa;
+        M += (Vec3(sys.node_q(q, node).head<3>()) - p).cross(fa);
+      }
+      o += sys.coordinate_count(node);
+    }
+    const Mat3 D =
+        s.body >= 0 ? Mat3(frame_node::directors(sys.node_q(q, s.body))) : Mat3::Identity();
+    out.push_back({c.name, p, F, M, D.transpose() * F, D.transpose() * M});
+  }
   return out;
 }
 

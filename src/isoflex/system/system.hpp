@@ -134,6 +134,15 @@ struct ProbeInstance {
 };
 
 // A spring–damper of the model: its element in System::elements() (elements::PointSpringDamper).
+// A joint at a Kirchhoff–Love shell point (n-ary constraint `constraint`): the shell's material
+// point Σ w x_A over (node, w), where its reaction is reported (system/joint_reactions.hpp), and
+// the body's frame node (−1: the ground).
+struct ShellPointJointInstance {
+  int constraint = -1;
+  std::vector<std::pair<int, double>> point;
+  int body = -1;
+};
+
 struct SpringInstance {
   std::string name;
   int element_index = -1;
@@ -273,6 +282,9 @@ class System {
   const std::vector<ProbeInstance>& probes() const { return probes_; }
   // The spring–dampers (model springs) and their elements in elements().
   const std::vector<SpringInstance>& springs() const { return springs_; }
+  const std::vector<ShellPointJointInstance>& shell_point_joints() const {
+    return shell_point_joints_;
+  }
   // Moves the ground end of spring s (springs()[s].ground_end ≥ 0) to `point`, moving at
   // `velocity` (seen by its damper): the anchor a co-simulation gives the other side's point
   // (integrate/cosimulation.hpp). Between steps only.
@@ -400,6 +412,7 @@ class System {
   std::vector<int> element_part_, load_part_;
   std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
+  std::vector<ShellPointJointInstance> shell_point_joints_;
   std::vector<ConstraintInstance> nary_;
   std::vector<int> tree_order_;  // joint indices, parents before children
   std::vector<int> roots_;

@@ -739,6 +739,12 @@ void System::add_kl_surface_joints(Build& build) {
       const MatX& h = H[static_cast<std::size_t>(r)];
       c(r) = -(C.row(r).dot(q0) + (h.size() != 0 ? 0.5 * q0.dot(h * q0) : 0.0));
     }
+    ShellPointJointInstance spj{static_cast<int>(nary_.size()), {}, body};
+    for (std::size_t i = 0; i < functions.size(); ++i)
+      if (B.R(0, functions[i]) != 0.0)
+        spj.point.emplace_back(nodes[static_cast<std::size_t>(body >= 0) + i],
+                               B.R(0, functions[i]));
+    shell_point_joints_.push_back(std::move(spj));
     try {
       nary_.push_back(
           {what, revolute ? "revolute_at_shell_point" : "spherical_at_shell_point",
