@@ -88,13 +88,15 @@ void CsvFile::flush() {
 }
 
 HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
-                             const std::string& path_column)
-    : file_(outdir / "history.csv",
-            (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
-             (path_column.empty() ? "" : "," + path_column))
-                .c_str()),
+                             const std::string& path_column, bool external_work)
+    : file_(
+          outdir / "history.csv",
+          (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
+           (external_work ? ",external_work" : "") + (path_column.empty() ? "" : "," + path_column))
+              .c_str()),
       dissipated_(dissipated_energy),
-      path_(!path_column.empty()) {}
+      path_(!path_column.empty()),
+      work_(external_work) {}
 
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;
@@ -106,6 +108,7 @@ void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
                  L.x(), L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
   if (dissipated_)
     fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.dissipated_energy);
+  if (work_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.external_work);
   if (path_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.path);
   file_.pending() += '\n';
   file_.flush();
