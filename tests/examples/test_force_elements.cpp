@@ -245,9 +245,9 @@ TEST(NonlinearSpringFreeFlight, DamperAndActuatorBalanceTheEnergyAndKeepMomenta)
     double work = 0.0;
     for (const auto& s : r.snapshots) work = std::max(work, std::abs(s.external_work));
     std::printf(
-        "  [force elements] %-14s dissipated %.3f, largest |work| %.3f, E + D − W drift %.2e, "
-        "p %.2e, L %.2e\n",
-        name_of(f), last.dissipated_energy, work, b, d.p, d.L);
+        "  [force elements] %-14s E0 %.3f, dissipated %.3f, largest |work| %.3f, E + D − W drift "
+        "%.2e, p %.2e, L %.2e\n",
+        name_of(f), r.snapshots.front().total_energy, last.dissipated_energy, work, b, d.p, d.L);
     EXPECT_GT(last.dissipated_energy, 0.0);
     EXPECT_GT(work, 0.05 * r.snapshots.front().total_energy);  // the actuator does work
     EXPECT_LT(b, 1e-12) << name_of(f);

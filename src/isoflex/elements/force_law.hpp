@@ -4,8 +4,8 @@
 // linear, N = k x, or a muParser expression in the variable (loads::TimeFunction with its own
 // variable name), e.g. "2e3*e + 5e5*e^3".
 //
-// For a spring the law has an energy V(x) = ∫₀ˣ N, evaluated by an 8-point Gauss–Legendre rule
-// on [0, x] (exact for polynomial laws up to degree 15, to the rule's accuracy otherwise), and a
+// For a spring the law has an energy V(x) = ∫₀ˣ N, evaluated by a 16-point Gauss–Legendre rule
+// on [0, x] (exact for polynomial laws up to degree 31, to the rule's accuracy otherwise), and a
 // mean force over an increment, N̄(x₀, x₁) = (V(x₁) − V(x₀)) / (x₁ − x₀), for which
 // N̄ Δx = ΔV holds with the V reported: the discrete gradient of a function of one variable
 // (DNSM-III (17)). Below a relative increment of 1e-5 the quotient (which loses digits there)
@@ -42,7 +42,7 @@ class ForceLaw {
   double mean(double x0, double x1, double* d_dx1) const;
 
  private:
-  static constexpr int kPoints = 8;  // Gauss–Legendre points of V(x) = ∫₀ˣ N
+  static constexpr int kPoints = 16;  // Gauss–Legendre points of V(x) = ∫₀ˣ N
   double k_ = 0.0;
   std::array<double, kPoints> s_{}, w_{};  // the rule on [0, 1]
   std::optional<loads::TimeFunction> expression_;
