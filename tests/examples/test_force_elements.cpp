@@ -81,34 +81,12 @@ const std::string kCubicSpring = R"(springs:
     stiffness_law: "200*e + 5000*e^3"
 )";
 
-// A chain of three bodies, no ground: b on a revolute joint about x with a weak rotational
-// spring, spinning 20 rad/s relative to a (it winds up about five turns in 2 s); c on a
-// prismatic joint along y with a spring.
-const std::string kChain = R"(name: chain
-solver: {dt: 0.01, t_end: 2}
-bodies:
-  - {name: a, mass: 2, inertia: [0.05, 0.06, 0.07], position: [0, 0, 0],
-     velocity: [0.1, 0.2, -0.1], angular_velocity: [0.3, -0.2, 0.5]}
-  - {name: b, mass: 1, inertia: [0.02, 0.03, 0.04], position: [0.5, 0, 0],
-     velocity: [0.1, 0.45, -0.2], angular_velocity: [20.3, -0.2, 0.5]}
-  - {name: c, mass: 1.5, inertia: [0.03, 0.03, 0.03], position: [0, 0.6, 0],
-     velocity: [-0.2, 0.3, -0.1], angular_velocity: [0.3, -0.2, 0.5]}
-joints:
-  - name: hinge
-    type: revolute
-    body_a: a
-    body_b: b
-    point: [0.5, 0, 0]
-    axis: [1, 0, 0]
-    spring: {stiffness: 0.005}
-  - name: slide
-    type: prismatic
-    body_a: a
-    body_b: c
-    point: [0, 0.6, 0]
-    axis: [0, 1, 0]
-    spring: {stiffness: 30, free_length: 0.1}
-)";
+// A chain of three bodies, no ground (examples/joint_springs): b on a revolute joint about x
+// with a weak rotational spring, spinning 20 rad/s relative to a (it winds up about five turns in
+// 2 s); c on a prismatic joint along y with a spring.
+std::string chain() {
+  return test::example_text("joint_springs", "model.yaml");
+}
 
 // The largest relative change of E + dissipated − external work from its start.
 double balance_drift(const test::Trajectory& r) {
@@ -167,7 +145,7 @@ TEST(BushingFreeFlight, DampingDissipatesWhatTheEnergyLosesAndKeepsMomenta) {
 // --- Joint springs --------------------------------------------------------------------------
 
 TEST(JointSpringFreeFlight, RevoluteSpringWindsUpSeveralTurnsConservingEnergyAndMomenta) {
-  const model::Model m = read(kChain);
+  const model::Model m = read(chain());
   for (F f : kFormulations) {
     model::Model mf = m;
     mf.solver.formulation = f;
@@ -208,7 +186,7 @@ TEST(JointSpringFreeFlight, RevoluteSpringWindsUpSeveralTurnsConservingEnergyAnd
 }
 
 TEST(JointSpringFreeFlight, DampersDissipateWhatTheEnergyLoses) {
-  std::string text = test::replaced(kChain, "spring: {stiffness: 0.005}",
+  std::string text = test::replaced(chain(), "spring: {stiffness: 0.005}",
                                     "spring: {stiffness: 0.005, damping: 0.002}");
   text = test::replaced(text, "spring: {stiffness: 30, free_length: 0.1}",
                         "spring: {stiffness: 30, damping: 0.5, free_length: 0.1}");
@@ -404,13 +382,19 @@ joints:
 }
 
 // Through the CLI: forces.csv reports N(e) + N_d(ζ̇) + F(t) of a spring with laws and an
-// actuator; history.csv has dissipated_energy and external_work.
+// actuator; history.csv has dissipated_energy and external_work; check prints the laws.
 TEST(NonlinearSpringFreeFlight, CliWritesTheNonlinearForceAndTheWork) {
   const test::TempDir dir(test::temp_dir("isoflex_", "force_elements_cli"));
   const std::string model = (dir.path() / "m.yaml").string();
   test::write_text(model,
                    test::replaced(kTwoBodies, "t_end: 1", "t_end: 0.1") + kCubicSpring +
                        "    damping_law: \"0.5*v + 2*v^3\"\n    actuator: \"20*sin(9*t)\"\n");
+  const auto c = test::run_isoflex("check " + model);
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("spring           cubic: stiffness law \"200*e + 5000*e^3\", damping law "
+                       "\"0.5*v + 2*v^3\", actuator \"20*sin(9*t)\", free length 0.25"),
+            std::string::npos)
+      << c.out;
   const auto r = test::run_isoflex("run " + model + " -o " + (dir.path() / "out").string());
   ASSERT_EQ(r.code, 0) << r.out;
   std::istringstream forces(test::read_text((dir.path() / "out" / "forces.csv").string()));

@@ -9,6 +9,7 @@
 //
 // The energy–momentum schemes take it, like every load, at (q_{n+½}, t_{n+½}); the work it does,
 // f·Δq per step, is what history.csv's external_work adds up.
+#include <string>
 #include <vector>
 
 #include "isoflex/loads/load.hpp"
@@ -30,6 +31,7 @@ class LineActuator final : public Load {
 
   // F(t), tension > 0.
   double force(double t) const { return force_(t); }
+  const std::string& expression() const { return force_.expression(); }
 
  private:
   std::vector<int> nodes_;
