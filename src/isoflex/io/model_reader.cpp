@@ -636,6 +636,9 @@ class Reader : YamlFields {
 
     const YAML::Node body_b = require(n, p, "body_b");
     if (kl_shell_ref(body_b) || kl_shell_ref(n["body_a"])) {
+      if (n["spring"])
+        fail(n["spring"], join(p, "spring"),
+             "a spring is built for revolute and prismatic joints between bodies and beam nodes");
       read_kl_surface_joint(n, p, j, m, kl);
       return j;
     }
