@@ -113,9 +113,11 @@ springs:
                                 "point: [1, 0, 0]}, stiffness: 1}\n")
                 .find("m.yaml:5: springs[0]: both ends are on the ground"),
             std::string::npos);
-  EXPECT_NE(reader_error(head + "  - {a: {body: a}, b: {body: ground, point: [1, 0, 0]}}\n")
-                .find("springs[0]: give stiffness, damping or both"),
-            std::string::npos);
+  EXPECT_NE(
+      reader_error(head + "  - {a: {body: a}, b: {body: ground, point: [1, 0, 0]}}\n")
+          .find("springs[0]: give stiffness, damping (or stiffness_law, damping_law), actuator or "
+                "several"),
+      std::string::npos);
   EXPECT_NE(reader_error(head + "  - {a: {body: a}, b: {body: ground, point_local: [1, 0, 0]}, "
                                 "stiffness: 1}\n")
                 .find("springs[0].b.point_local: the ground has no body coordinates"),
@@ -131,7 +133,7 @@ springs:
   EXPECT_NE(reader_error(head + "  - {a: {body: a}, b: {body: ground, point: [1, 0, 0]}, "
                                 "stiffness: 1, length: 2}\n")
                 .find("springs[0].length: unknown key (valid keys: name, a, b, stiffness, damping, "
-                      "free_length)"),
+                      "free_length, stiffness_law, damping_law, actuator)"),
             std::string::npos);
 }
 

@@ -100,7 +100,7 @@ TEST(CoSimulation, ConvergesToTheMonolithicRunAsTheMacroStepFalls) {
     }
     // The constant hold keeps the total energy: the serial exchange telescopes (each part keeps
     // its energy with its anchor held, and the crossing springs' energies cancel between the
-    // two halves; docs/theory/coupling.md §7). The linear hold does not, and its error falls
+    // two halves; docs/theory/coupling.md §11). The linear hold does not, and its error falls
     // with H.
     for (std::size_t i = 0; i < energy.size(); ++i) {
       if (linear) {

@@ -321,7 +321,7 @@ TEST(ModelReader, UnknownKey) {
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
             "shell_supports, shell_connections, shell_loads, kl_shells, kl_supports, kl_loads, "
-            "kl_interfaces, springs)");
+            "kl_interfaces, springs, bushings)");
   EXPECT_EQ(error_of(with_bodies({"    shape: {type: sphere, size: [1, 1, 1]}"})),
             "m.yaml:6: bodies[0].shape.size: unknown key (valid keys: type, radius, offset)");
   EXPECT_EQ(error_of(with_bodies({"gravity: [0, 0, 0]", "gravity: [0, 0, 1]"})),

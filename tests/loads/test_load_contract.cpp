@@ -1,7 +1,7 @@
 // The load contract (loads/load.hpp) over every load kind: a body load, a director-node load and
-// a Kirchhoff–Love patch's loads (PatchLoadSet). For each: the tangent given in its own pattern
-// against central differences of generalized_force (followers), no dependence on x and no
-// tangent (dead loads), and the pattern's size.
+// a Kirchhoff–Love patch's loads (PatchLoadSet), a spring's actuator (LineActuator). For each: the
+// tangent given in its own pattern against central differences of generalized_force (followers), no
+// dependence on x and no tangent (dead loads), and the pattern's size.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -13,6 +13,7 @@
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
+#include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
 #include "support/finite_difference.hpp"
 
@@ -72,6 +73,16 @@ std::vector<Case> cases() {
       {"patch follower pressure",
        std::make_shared<PatchLoadSet>(nodes, follower, MatX::Ones(3 * ncp, 3 * ncp).sparseView()),
        3 * ncp, true});
+  // An actuator from a body point (frame node, body coordinates X) to a point node, F = 2 + t.
+  Eigen::Matrix<double, 3, Eigen::Dynamic> D =
+      Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 15);
+  D.middleCols<3>(0) = Mat3::Identity();
+  for (int i = 0; i < 3; ++i) D.middleCols<3>(3 + 3 * i) = X(i) * Mat3::Identity();
+  D.middleCols<3>(12) = -Mat3::Identity();
+  out.push_back({"line actuator",
+                 std::make_shared<LineActuator>(std::vector<int>{3, 8}, D, Vec3::Zero(),
+                                                TimeFunction(std::string("2+t")), VecX::Ones(15)),
+                 15, true});
   return out;
 }
 
@@ -123,4 +134,26 @@ TEST(LoadContract, TheNodesAreTheLoadsNodesAndTheTimeFunctionsApply) {
   EXPECT_LT((all[4].load->generalized_force(x, 1.5) - 3.0 * all[4].load->generalized_force(x, 0.5))
                 .norm(),
             1e-13 * all[4].load->generalized_force(x, 1.5).norm());
+}
+
+// The actuator is a pair of opposite forces F(t) on the line of its points: the force on the
+// frame node's φ and the one on the point node cancel, their moments about the origin too, and
+// it pulls the points together (tension > 0) with magnitude F.
+TEST(LoadContract, TheActuatorIsAPairOfForcesOnItsLine) {
+  const Case c = cases().back();
+  std::mt19937 g(3);
+  const VecX x = random_vector(g, 15, 1.0);
+  const double t = 0.5;
+  const VecX f = c.load->generalized_force(x, t);
+  const Vec3 X(0.3, -0.2, 0.5);
+  const Vec3 xa =
+      x.segment<3>(0) + X(0) * x.segment<3>(3) + X(1) * x.segment<3>(6) + X(2) * x.segment<3>(9);
+  const Vec3 xb = x.segment<3>(12);
+  const Vec3 n = (xa - xb).normalized();
+  EXPECT_LT((f.segment<3>(0) + 2.5 * n).norm(), 1e-14);  // on a: −F n, towards b
+  EXPECT_LT((f.segment<3>(12) - 2.5 * n).norm(), 1e-14);
+  Vec3 moment = Vec3::Zero();
+  for (int b = 0; b < 5; ++b) moment += x.segment<3>(3 * b).cross(f.segment<3>(3 * b));
+  EXPECT_LT((f.segment<3>(0) + f.segment<3>(12)).norm(), 1e-14);
+  EXPECT_LT(moment.norm(), 1e-13);
 }

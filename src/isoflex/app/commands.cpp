@@ -25,6 +25,7 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/io/output_error.hpp"
 #include "isoflex/io/summary_writer.hpp"
+#include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/memory.hpp"
 #include "isoflex/system/kl_interface_report.hpp"
@@ -292,6 +293,20 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
              system::format_bytes(l->memory.total()), system::format_bytes(l->memory.compile()),
              l->memory.breakdown(), l->limit.bytes > 0 ? "; " + l->limit.text : "");
   fmt::print(out, "bodies           {}\n", l->model.bodies.size());
+  const auto diagonal = [](const Mat<6, 6>& K) {
+    std::string d;
+    for (int i = 0; i < 6; ++i) d += fmt::format("{}{:g}", i ? ", " : "", K(i, i));
+    return d;
+  };
+  for (const model::Bushing& b : l->model.bushings)
+    fmt::print(out,
+               "bushing          {}: {} – {}, stiffness diagonal [{}], damping diagonal [{}]\n",
+               b.name, b.frame.body_a, b.frame.body_b, diagonal(b.stiffness), diagonal(b.damping));
+  for (const model::Joint& j : l->model.joints)
+    if (j.spring)
+      fmt::print(out, "joint spring     {} ({}): stiffness {:g}, damping {:g}, free {} {:g}\n",
+                 j.name, model::to_string(j.type), j.spring->stiffness, j.spring->damping,
+                 j.type == model::JointType::revolute ? "angle" : "length", j.spring->free_value);
   if (l->sys && !l->sys->beams().empty()) {
     std::size_t elements = 0;
     for (const auto& b : l->sys->beams()) elements += b.elements.size();
@@ -338,10 +353,22 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
   for (const auto& sp : sys.springs()) {
     const auto& e = dynamic_cast<const elements::PointSpringDamper&>(
         *sys.elements()[static_cast<std::size_t>(sp.element_index)]);
-    fmt::print(out,
-               "spring           {}: stiffness {:g}, damping {:g}, free length {:.6g}, length at t "
-               "= 0 {:.6g}\n",
-               sp.name, e.law().stiffness, e.law().damping, e.law().free_length,
+    const auto& law = e.law();
+    const std::string stiffness = law.stiffness_law.empty()
+                                      ? fmt::format("stiffness {:g}", law.stiffness)
+                                      : fmt::format("stiffness law \"{}\"", law.stiffness_law);
+    const std::string damping = law.damping_law.empty()
+                                    ? fmt::format("damping {:g}", law.damping)
+                                    : fmt::format("damping law \"{}\"", law.damping_law);
+    const std::string actuator =
+        sp.actuator_load < 0
+            ? ""
+            : fmt::format(", actuator \"{}\"",
+                          dynamic_cast<const loads::LineActuator&>(
+                              *sys.loads()[static_cast<std::size_t>(sp.actuator_load)])
+                              .expression());
+    fmt::print(out, "spring           {}: {}, {}{}, free length {:.6g}, length at t = 0 {:.6g}\n",
+               sp.name, stiffness, damping, actuator, law.free_length,
                e.length(sys.stacked(sys.q0(), e.nodes())));
   }
   fmt::print(out, "n                {}  (redundant coordinates)\n", sys.n());
@@ -484,7 +511,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.t_end = m.solver.t_end;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
-  // Energy is conserved from t = 0 only by a dynamic run without loads of any kind.
+  // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
+  // actuators: energy + dissipated energy − their work).
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
                             m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
@@ -514,10 +542,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)
-      sum.max_energy_drift_after_loads =
-          std::max(sum.max_energy_drift_after_loads,
-                   std::abs(snap.total_energy + snap.dissipated_energy - sum.energy_initial) /
-                       std::max(std::abs(sum.energy_initial), 1e-300));
+      sum.max_energy_drift_after_loads = std::max(
+          sum.max_energy_drift_after_loads, std::abs(snap.total_energy + snap.dissipated_energy -
+                                                     snap.external_work - sum.energy_initial) /
+                                                std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
     throw_if_interrupted();
   };

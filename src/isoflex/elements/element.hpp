@@ -1,7 +1,8 @@
 #pragma once
 // The element contract (docs/architecture.md): an element maps the stacked coordinates of its
 // nodes to a potential V, its gradient, its discrete gradient DV(qₙ, qₙ₊₁) with ∂DV/∂qₙ₊₁, and a
-// constant mass matrix. Elements are immutable after construction; configurations are passed in.
+// constant mass matrix. Elements are immutable after construction (but for the history of
+// `accept` below); configurations are passed in.
 //
 // Matrices come in two shapes. Small elements (a rigid body, a beam, a director-shell quad) hand
 // out dense matrices over their stacked coordinates. An element with many nodes (a NURBS patch:
@@ -55,6 +56,14 @@ class Element {
   // Default: zero.
   virtual VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                         double* values) const;
+
+  // --- History --------------------------------------------------------------------------------
+  // A configuration q of a converged step (time step or load step), before the next step starts.
+  // An element whose potential depends on more than its configuration keeps that one piece of
+  // history from it — the revolute spring the branch of its angle (the turns), which the
+  // configuration fixes only modulo 2π. Called by System::accept, never while a step iterates,
+  // so the functions above are functions of their arguments during a step. Default: nothing.
+  virtual void accept(const VecX& q) const { (void)q; }
 };
 
 }  // namespace isoflex::elements

@@ -9,15 +9,20 @@ namespace isoflex::elements {
 
 PointSpringDamper::PointSpringDamper(std::vector<int> nodes, int coordinates, MaterialPointMap a,
                                      MaterialPointMap b, SpringDamperLaw law, const VecX& q0)
-    : nodes_(std::move(nodes)), n_(coordinates), law_(law) {
+    : nodes_(std::move(nodes)),
+      n_(coordinates),
+      law_(std::move(law)),
+      spring_(law_.stiffness_law.empty() ? ForceLaw(law_.stiffness)
+                                         : ForceLaw(law_.stiffness_law, "e")),
+      damper_(law_.damping_law.empty() ? ForceLaw(law_.damping) : ForceLaw(law_.damping_law, "v")) {
   if (a.P.cols() != n_ || b.P.cols() != n_ || q0.size() != n_)
     throw std::invalid_argument("PointSpringDamper: the point maps have " +
                                 std::to_string(a.P.cols()) + " and " + std::to_string(b.P.cols()) +
                                 " columns, the configuration " + std::to_string(q0.size()) +
                                 " entries, expected " + std::to_string(n_));
-  if (!(law.stiffness >= 0.0) || !(law.damping >= 0.0) || !(law.free_length >= 0.0) ||
-      !std::isfinite(law.stiffness) || !std::isfinite(law.damping) ||
-      !std::isfinite(law.free_length))
+  if (!(law_.stiffness >= 0.0) || !(law_.damping >= 0.0) || !(law_.free_length >= 0.0) ||
+      !std::isfinite(law_.stiffness) || !std::isfinite(law_.damping) ||
+      !std::isfinite(law_.free_length))
     throw std::invalid_argument(
         "PointSpringDamper: stiffness, damping and free length must be "
         "finite and ≥ 0");
@@ -25,7 +30,7 @@ PointSpringDamper::PointSpringDamper(std::vector<int> nodes, int coordinates, Ma
   ca_ = a.c;
   cb_ = b.c;
   e_ = a.c - b.c;
-  if ((law.free_length > 0.0 || law.damping > 0.0) && !(difference(q0).norm() > 0.0))
+  if ((law_.free_length > 0.0 || viscous() || !spring_.linear()) && !(difference(q0).norm() > 0.0))
     throw std::invalid_argument(
         "PointSpringDamper: the two points coincide at the start, so the line of the force is "
         "undefined (give them a distance, or free length 0 and no damping)");
@@ -36,32 +41,37 @@ double PointSpringDamper::length(const VecX& q) const {
 }
 
 double PointSpringDamper::potential(const VecX& q) const {
-  const double s = length(q) - law_.free_length;
-  return 0.5 * law_.stiffness * s * s;
+  return spring_.energy(length(q) - law_.free_length);
 }
 
-// ∇V = k (1 − L/ζ) Dᵀ d.
+// ∇V = (N(e)/ζ) Dᵀ d; linear: k (1 − L/ζ) Dᵀ d.
 VecX PointSpringDamper::gradient(const VecX& q) const {
   const Vec3 d = difference(q);
-  const double z = d.norm();
-  const double g =
-      law_.free_length > 0.0 ? law_.stiffness * (1.0 - law_.free_length / z) : law_.stiffness;
+  const double z = d.norm(), L = law_.free_length, k = law_.stiffness;
+  const double g = !spring_.linear() ? spring_.force(z - L) / z : L > 0.0 ? k * (1.0 - L / z) : k;
   return D_.transpose() * (g * d);
 }
 
-// DV = g Dᵀ d_{n+½}, g = 2 W̄′ = k (1 − 2L/s), s = ζₙ + ζₙ₊₁;
-// ∂DV/∂qₙ₊₁ = ½ g DᵀD + (2kL/(s² ζₙ₊₁)) Dᵀ d_{n+½} dₙ₊₁ᵀ D.
+// DV = g Dᵀ d_{n+½}, g = 2 W̄′ = 2 N̄ / s, s = ζₙ + ζₙ₊₁ (linear: k (1 − 2L/s));
+// ∂DV/∂qₙ₊₁ = ½ g DᵀD + h Dᵀ d_{n+½} dₙ₊₁ᵀ D, h = (2 ∂N̄/∂eₙ₊₁ / s − 2 N̄/s²) / ζₙ₊₁
+// (linear: 2kL/(s² ζₙ₊₁)).
 VecX PointSpringDamper::discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const {
   const Vec3 d0 = difference(qn), d1 = difference(qn1), dm = 0.5 * (d0 + d1);
   const double L = law_.free_length, k = law_.stiffness;
-  const double s = d0.norm() + d1.norm();
-  const double g = L > 0.0 ? k * (1.0 - 2.0 * L / s) : k;
+  const double z0 = d0.norm(), z1 = d1.norm(), s = z0 + z1;
+  double g = k, h = 0.0;
+  if (!spring_.linear()) {
+    double dN = 0.0;
+    const double N = spring_.mean(z0 - L, z1 - L, dv_dqn1 ? &dN : nullptr);
+    g = 2.0 * N / s;
+    h = (2.0 * dN / s - 2.0 * N / (s * s)) / z1;
+  } else if (L > 0.0) {
+    g = k * (1.0 - 2.0 * L / s);
+    h = 2.0 * k * L / (s * s * z1);
+  }
   if (dv_dqn1) {
     *dv_dqn1 = (0.5 * g) * D_.transpose() * D_;
-    if (L > 0.0) {
-      const double h = 2.0 * k * L / (s * s * d1.norm());
-      *dv_dqn1 += (h * (D_.transpose() * dm)) * (d1.transpose() * D_);
-    }
+    if (h != 0.0) *dv_dqn1 += (h * (D_.transpose() * dm)) * (d1.transpose() * D_);
   }
   return D_.transpose() * (g * dm);
 }
@@ -79,15 +89,31 @@ void PointSpringDamper::move_anchor(int end, const Vec3& point, const Vec3& velo
 }
 
 double PointSpringDamper::force(const VecX& q, const VecX& qdot) const {
-  return law_.stiffness * (length(q) - law_.free_length) + law_.damping * rate(q, qdot);
+  return spring_.force(length(q) - law_.free_length) + damper_.force(rate(q, qdot));
 }
 
 // f = (c/ζ²) Dᵀ d (dᵀ u), u = D q̇: ∂f/∂q̇ = (c/ζ²) Dᵀ d dᵀ D and
 // ∂f/∂q = (c/ζ²) [Dᵀ d uᵀ D + (dᵀu) DᵀD] − (2c (dᵀu)/ζ⁴) Dᵀ d dᵀ D.
+// A nonlinear law: f = N_d(ζ̇) n, n = Dᵀd/ζ, ζ̇ = dᵀu/ζ: ∂f/∂q̇ = N_d′ n nᵀ,
+// ∂f/∂q = N_d′ n (Dᵀu/ζ − ζ̇ n/ζ)ᵀ + (N_d/ζ) (DᵀD − n nᵀ).
 VecX PointSpringDamper::viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq,
                                                  double cv, double* values) const {
+  if (!viscous()) return VecX::Zero(n_);
+  if (!damper_.linear()) {
+    const Vec3 d = difference(q), u = D_ * qdot + w_;
+    const double z = d.norm(), v = d.dot(u) / z;
+    const VecX nv = D_.transpose() * (d / z);
+    const double N = damper_.force(v);
+    if (values) {
+      const double dN = damper_.derivative(v);
+      Eigen::Map<MatX> K(values, n_, n_);
+      K += (cv * dN) * nv * nv.transpose();
+      K += (cq * dN) * nv * (D_.transpose() * u / z - (v / z) * nv).transpose();
+      K += (cq * N / z) * (D_.transpose() * D_ - nv * nv.transpose());
+    }
+    return N * nv;
+  }
   const double c = law_.damping;
-  if (!(c > 0.0)) return VecX::Zero(n_);
   const Vec3 d = difference(q), u = D_ * qdot + w_;
   const double z2 = d.squaredNorm(), r = d.dot(u);
   const VecX Dd = D_.transpose() * d;

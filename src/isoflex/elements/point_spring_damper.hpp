@@ -10,9 +10,17 @@
 // the difference quotient written without cancellation; DV·Δq = ΔV exactly, and the force, along
 // d_{n+½}, keeps both momenta. The damper f = c ζ̇ along the line is a viscous force
 // (Element::viscous_force_in_pattern): its power c ζ̇² ≥ 0 is what it dissipates.
+//
+// Nonlinear laws (docs/theory/coupling.md §6): a spring force N(e) of the elongation e = ζ − L
+// with its energy V = ∫₀^e N (elements/force_law.hpp) has the same discrete gradient with
+// W̄′ = N̄ / (ζₙ + ζₙ₊₁), N̄ = (V(eₙ₊₁) − V(eₙ)) / (eₙ₊₁ − eₙ) (since Δe = Δζ); a damper force
+// N_d(ζ̇) along the line dissipates N_d(ζ̇) ζ̇, ≥ 0 when the law is dissipative (v N_d(v) ≥ 0,
+// which the model reader checks on samples).
+#include <string>
 #include <vector>
 
 #include "isoflex/elements/element.hpp"
+#include "isoflex/elements/force_law.hpp"
 
 namespace isoflex::elements {
 
@@ -26,13 +34,17 @@ struct SpringDamperLaw {
   double stiffness = 0.0;    // k ≥ 0
   double damping = 0.0;      // c ≥ 0
   double free_length = 0.0;  // L ≥ 0
+  // Nonlinear laws instead of k and c: N(e) in the elongation e, N_d(v) in the rate v (muParser
+  // expressions; empty: the linear law).
+  std::string stiffness_law, damping_law;
 };
 
 class PointSpringDamper final : public Element {
  public:
   // Throws std::invalid_argument for maps of a size other than 3 × (coordinates of nodes), a
-  // negative or non-finite law, or points that coincide where the spring has a free length or a
-  // damper (the line of action is undefined there).
+  // negative or non-finite law, an invalid law expression, or points that coincide where the
+  // spring has a free length, a nonlinear law or a damper (the line of action is undefined
+  // there).
   PointSpringDamper(std::vector<int> nodes, int coordinates, MaterialPointMap a, MaterialPointMap b,
                     SpringDamperLaw law, const VecX& q0);
 
@@ -43,7 +55,7 @@ class PointSpringDamper final : public Element {
   MatX mass() const override { return MatX::Zero(n_, n_); }
   SpMat sparse_mass() const override { return SpMat(n_, n_); }
 
-  bool viscous() const override { return law_.damping > 0.0; }
+  bool viscous() const override { return law_.damping > 0.0 || !damper_.linear(); }
   VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                 double* values) const override;
 
@@ -52,10 +64,16 @@ class PointSpringDamper final : public Element {
   // `velocity`: the anchor of a co-simulation (integrate/cosimulation.hpp), held over a step.
   // The rate ζ̇ and the damper then see the anchor's velocity.
   void move_anchor(int end, const Vec3& point, const Vec3& velocity);
-  // The distance ζ = |x₁ − x₂|, its rate ζ̇ and the force N = k (ζ − L) + c ζ̇ (tension > 0).
+  // The distance ζ = |x₁ − x₂|, its rate ζ̇ and the force N(ζ − L) + N_d(ζ̇) (tension > 0).
   double length(const VecX& q) const;
   double rate(const VecX& q, const VecX& qdot) const;
   double force(const VecX& q, const VecX& qdot) const;
+  // The energy and the force at the distance ζ and the rate ζ̇ (the co-simulation's true values
+  // of a spring whose ends live in two systems).
+  double energy_at(double length) const { return spring_.energy(length - law_.free_length); }
+  double force_at(double length, double rate) const {
+    return spring_.force(length - law_.free_length) + damper_.force(rate);
+  }
 
  private:
   Vec3 difference(const VecX& q) const { return D_ * q + e_; }
@@ -66,6 +84,7 @@ class PointSpringDamper final : public Element {
   Vec3 ca_, cb_;           // the ends' constants, e = c_a − c_b
   Vec3 w_ = Vec3::Zero();  // the anchor's part of ḋ: ḋ = D q̇ + w
   SpringDamperLaw law_;
+  ForceLaw spring_, damper_;
 };
 
 }  // namespace isoflex::elements

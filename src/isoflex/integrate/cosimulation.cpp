@@ -118,6 +118,7 @@ CoSimulation::CoSimulation(const model::Model& m)
   shell.shell_loads.clear();
   shell.probes.clear();
   shell.springs.clear();
+  shell.bushings.clear();  // between frames: the multibody part's
   for (const model::Joint& J : m.joints) {
     const bool a = control_point(m, J.body_a), b = control_point(m, J.body_b);
     if (!a && !b) {
@@ -141,6 +142,10 @@ CoSimulation::CoSimulation(const model::Model& m)
     const model::Spring& S = m.springs[k];
     const int sa = side(m, S.a), sb = side(m, S.b);
     if (std::max(sa, sb) == 1 && std::min(sa, sb) == 0) {
+      if (!S.actuator.empty())
+        system::compile_fail(S.source, fmt::format("springs[{}].actuator", k),
+                             "an actuator on a spring between a shell and the multibody part is "
+                             "not exchanged by the co-simulation; run monolithic");
       crossing.push_back(k);
       model::Probe a = S.a, b = S.b;
       a.name = fmt::format("{}a{}", kHidden, k);
@@ -304,11 +309,9 @@ Snapshot CoSimulation::snapshot(const StepStats& st) const {
     const auto [xs, vs] = end(*shell_, shell_state_, c.shell_probe);
     const Vec3 d = c.shell_is_a ? Vec3(xs - xm) : Vec3(xm - xs);
     const Vec3 dv = c.shell_is_a ? Vec3(vs - vm) : Vec3(vm - vs);
-    const auto& law = e_mbs.law();
     const double z = d.norm(), rate = z > 0.0 ? d.dot(dv) / z : 0.0;
-    const double stretch = z - law.free_length;
-    out.potential_energy += 0.5 * law.stiffness * stretch * stretch;
-    out.springs.push_back({c.name, z, stretch, rate, law.stiffness * stretch + law.damping * rate});
+    out.potential_energy += e_mbs.energy_at(z);
+    out.springs.push_back({c.name, z, z - e_mbs.law().free_length, rate, e_mbs.force_at(z, rate)});
   }
   out.total_energy = out.kinetic_energy + out.potential_energy;
   return out;

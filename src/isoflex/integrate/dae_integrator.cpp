@@ -220,9 +220,12 @@ StepStats DaeIntegrator::attempt(State& s, double h) const {
     const double power1 = sys_.viscous_force(q, v1, 0, 0, nullptr).dot(v1);
     s.dissipated += 0.5 * h * (power0 + power1);
   }
-  if (!sys_.loads().empty())  // the trapezoidal rule of the loads' power f_ext·q̇
-    s.external_work +=
-        0.5 * h * (sys_.load_force(s.q, s.t).dot(s.v) + sys_.load_force(q, t1).dot(v1));
+  if (!sys_.loads().empty()) {  // the trapezoidal rule of the external power f_ext·q̇
+    const double power0 = sys_.external_force(s.q, s.t).dot(s.v);
+    const double power1 = sys_.external_force(q, t1).dot(v1);
+    s.external_work += 0.5 * h * (power0 + power1);
+  }
+  sys_.accept(q);
   if (settings_.integrator == I::generalized_alpha)
     s.aux = p.aux + (1.0 - alpha_.alpha_f) / (1.0 - alpha_.alpha_m) * acc;  // Alg. 2.1, line 19
   s.q_prev = s.q;

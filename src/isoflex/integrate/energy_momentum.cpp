@@ -7,6 +7,7 @@
 
 #include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/integrate/step_subdivision.hpp"
+#include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/system/joint_reactions.hpp"
 
@@ -395,12 +396,12 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.last_dt = dt;
-  if (sys_.viscous()) {
-    const VecX dq = q1 - s.q;
+  const VecX dq = q1 - s.q;
+  if (sys_.viscous())
     s.dissipated += sys_.viscous_force(0.5 * (s.q + q1), dq / c.dt, 0, 0, nullptr).dot(dq);
-  }
   if (!sys_.loads().empty())
-    s.external_work += sys_.load_force(0.5 * (s.q + q1), c.t_mid).dot(q1 - s.q);
+    s.external_work += sys_.external_force(0.5 * (s.q + q1), c.t_mid).dot(dq);
+  sys_.accept(q1);
   s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
   s.q = q1;
   s.t += c.dt;
@@ -495,7 +496,12 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
         *sys_.elements()[static_cast<std::size_t>(sp.element_index)]);
     const VecX q = sys_.stacked(s.q, e.nodes()), v = sys_.stacked(s.v, e.nodes());
     const double z = e.length(q);
-    out.springs.push_back({sp.name, z, z - e.law().free_length, e.rate(q, v), e.force(q, v)});
+    double force = e.force(q, v);
+    if (sp.actuator_load >= 0)
+      force += dynamic_cast<const loads::LineActuator&>(
+                   *sys_.loads()[static_cast<std::size_t>(sp.actuator_load)])
+                   .force(s.t);
+    out.springs.push_back({sp.name, z, z - e.law().free_length, e.rate(q, v), force});
   }
   return out;
 }

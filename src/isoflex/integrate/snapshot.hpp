@@ -80,7 +80,7 @@ struct Snapshot {
   double potential_energy = 0.0;  // conservative potentials only (gravity, elastic)
   double total_energy = 0.0;
   double dissipated_energy = 0.0;  // work of the viscous forces since t = 0 (State::dissipated)
-  double external_work = 0.0;      // work of the external loads since t = 0 (State::external_work)
+  double external_work = 0.0;  // work of the loads and actuators since t = 0 (State::external_work)
   Vec3 linear_momentum = Vec3::Zero();
   Vec3 angular_momentum = Vec3::Zero();  // about the global origin
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints

@@ -157,10 +157,13 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   pb.linear = linear && !(patches_only && follower);
   const system::System* S = &sys;
   auto selection = std::make_shared<RowSelection>();
-  if (!sys.reselected_groups().empty())
-    pb.begin_step = [S, selection](const VecX& x, double t) {
-      *selection = {t, dropped_rows(*S, x.head(S->n())), true};
-    };
+  // Every load step starts from the last equilibrium: the elements keep their history from it
+  // (System::accept), and rows reselected at every step are chosen there.
+  const bool reselect = !sys.reselected_groups().empty();
+  pb.begin_step = [S, selection, reselect](const VecX& x, double t) {
+    S->accept(x.head(S->n()));
+    if (reselect) *selection = {t, dropped_rows(*S, x.head(S->n())), true};
+  };
   if (!linear || patches_only) {
     pb.evaluate = [S, selection](const VecX& x, double t, bool with_tangent,
                                  ResidualEvaluation& out) {

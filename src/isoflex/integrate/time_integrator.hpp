@@ -34,10 +34,9 @@ struct State {
   // energy–momentum schemes add f_v(q_{n+½}, Δq/Δt)·Δq, exactly what their step removes from
   // the energy; the DAE schemes the trapezoidal rule of the power f_v·q̇.
   double dissipated = 0.0;
-  // The work of the external loads since t = 0 (System::load_force): the energy–momentum schemes
-  // add f_ext(q_{n+½}, t_{n+½})·Δq, exactly the energy their step receives from the loads; the
-  // DAE schemes the trapezoidal rule of the power f_ext·q̇. E + D − W is then the constant of an
-  // energy balance.
+  // The work of the external forces (loads, actuators: System::external_force) since t = 0: the
+  // energy–momentum schemes add f_ext(q_{n+½}, t_{n+½})·Δq, exactly what their step adds to the
+  // energy; the DAE schemes the trapezoidal rule of the power f_ext·q̇.
   double external_work = 0.0;
 };
 

@@ -95,8 +95,8 @@ HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipate
            (external_work ? ",external_work" : "") + (path_column.empty() ? "" : "," + path_column))
               .c_str()),
       dissipated_(dissipated_energy),
-      work_(external_work),
-      path_(!path_column.empty()) {}
+      path_(!path_column.empty()),
+      work_(external_work) {}
 
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;

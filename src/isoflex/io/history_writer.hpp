@@ -63,7 +63,8 @@ class CsvFile {
 // Writes outdir/history.csv.
 class HistoryWriter : public integrate::Observer {
  public:
-  // path_column: the name of the path-parameter column, empty for none.
+  // path_column: the name of the path-parameter column, empty for none; external_work: the
+  // column of the work of the loads and actuators (after dissipated_energy).
   HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
                 const std::string& path_column = {}, bool external_work = false);
   void on_snapshot(const integrate::Snapshot& s) override;
@@ -72,8 +73,8 @@ class HistoryWriter : public integrate::Observer {
  private:
   CsvFile file_;
   bool dissipated_ = false;
-  bool work_ = false;
   bool path_ = false;
+  bool work_ = false;
 };
 
 // A CSV file of rows per snapshot: the writers below say which rows (none and no file when the

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoflex/elements/force_law.hpp"
 #include "isoflex/io/kl_shell_reader.hpp"
 #include "isoflex/io/shell_reader.hpp"
 #include "isoflex/io/surface_reader.hpp"
@@ -96,7 +98,8 @@ class Reader : YamlFields {
                 "kl_supports",
                 "kl_loads",
                 "kl_interfaces",
-                "springs"});
+                "springs",
+                "bushings"});
     Model m;
     m.file = file();
     if (const auto n = root["name"]) m.name = string(n, "name");
@@ -161,6 +164,9 @@ class Reader : YamlFields {
     if (const auto list = optional_list(root, "springs"))
       for (std::size_t i = 0; i < list.size(); ++i)
         m.springs.push_back(read_spring(list[i], indexed("springs", i), i, m, kl));
+    if (const auto list = optional_list(root, "bushings"))
+      for (std::size_t i = 0; i < list.size(); ++i)
+        m.bushings.push_back(read_bushing(list[i], indexed("bushings", i), i));
     check_path_probe(root["solver"], m);
     m.shell_supports = shells.supports(root["shell_supports"], m.shells);
     for (auto& j :
@@ -635,7 +641,7 @@ class Reader : YamlFields {
     expect_map(n, p);
     check_keys(n, p,
                {"name", "type", "body_a", "body_b", "point", "point_a", "point_b", "axis", "axis_a",
-                "axis2", "axis2_b"});
+                "axis2", "axis2_b", "spring"});
     Joint j;
     j.source = source(n);
 
@@ -657,6 +663,9 @@ class Reader : YamlFields {
 
     const YAML::Node body_b = require(n, p, "body_b");
     if (kl_shell_ref(body_b) || kl_shell_ref(n["body_a"])) {
+      if (n["spring"])
+        fail(n["spring"], join(p, "spring"),
+             "a spring is built for revolute and prismatic joints between bodies and beam nodes");
       read_kl_surface_joint(n, p, j, m, kl);
       return j;
     }
@@ -717,7 +726,104 @@ class Reader : YamlFields {
       fail(n[axis2_key], join(p, axis2_key),
            fmt::format("not allowed for a {} joint (only universal)", type_name));
     }
+    if (const auto v = n["spring"]) j.spring = read_joint_spring(v, join(p, "spring"), j.type);
     return j;
+  }
+
+  // A spring–damper in a revolute joint (free_angle, rad) or a prismatic one (free_length).
+  model::JointSpring read_joint_spring(const YAML::Node& n, const std::string& p,
+                                       JointType type) const {
+    if (type != JointType::revolute && type != JointType::prismatic)
+      fail(n, p,
+           fmt::format("a spring is built for revolute and prismatic joints only, not {}",
+                       model::to_string(type)));
+    expect_map(n, p);
+    const bool revolute = type == JointType::revolute;
+    const char* free = revolute ? "free_angle" : "free_length";
+    check_keys(n, p, {"stiffness", "damping", free});
+    model::JointSpring s;
+    for (const auto& [key, out] :
+         {std::pair<const char*, double*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
+      if (const YAML::Node v = n[key]) {
+        *out = number(v, join(p, key));
+        if (!(*out >= 0.0)) fail(v, join(p, key), "must be ≥ 0");
+      }
+    if (!n["stiffness"] && !n["damping"]) fail(n, p, "give stiffness, damping or both");
+    if (const YAML::Node v = n[free]) s.free_value = number(v, join(p, free));
+    return s;
+  }
+
+  // A bushing: the frame keys of a joint (point required, axes optional) and 6 × 6 matrices.
+  model::Bushing read_bushing(const YAML::Node& n, const std::string& p, std::size_t index) const {
+    expect_map(n, p);
+    check_keys(n, p,
+               {"name", "body_a", "body_b", "point", "point_a", "point_b", "axis", "axis_a",
+                "axis2", "axis2_b", "stiffness", "damping"});
+    model::Bushing b;
+    b.source = source(n);
+    b.name = n["name"] ? string(n["name"], join(p, "name")) : "bushing" + std::to_string(index);
+    Joint& j = b.frame;
+    j.name = b.name;
+    j.type = JointType::fixed;
+    j.source = b.source;
+    if (const auto v = n["body_a"]) j.body_a = body_ref(v, join(p, "body_a"), true);
+    const YAML::Node body_b = require(n, p, "body_b");
+    j.body_b = body_ref(body_b, join(p, "body_b"), false);
+    if (j.body_a == j.body_b)
+      fail(body_b, join(p, "body_b"),
+           fmt::format("body_a and body_b are the same \"{}\"", j.body_b));
+    const auto at_most_one = [&](const char* x, const char* y) {
+      if (n[x] && n[y]) fail(n[y], join(p, y), fmt::format("give either {} or {}, not both", x, y));
+    };
+    at_most_one("point", "point_a");
+    at_most_one("point", "point_b");
+    at_most_one("point_a", "point_b");
+    at_most_one("axis", "axis_a");
+    at_most_one("axis2", "axis2_b");
+    if (!n["point"] && !n["point_a"] && !n["point_b"])
+      fail(n, join(p, "point"), "missing required key (or give point_a or point_b)");
+    if (const auto v = n["point"]) j.point = vec3(v, join(p, "point"));
+    if (const auto v = n["point_a"]) j.point_a = vec3(v, join(p, "point_a"));
+    if (const auto v = n["point_b"]) j.point_b = vec3(v, join(p, "point_b"));
+    if (const auto v = n["axis"]) j.axis = direction(v, join(p, "axis"));
+    if (const auto v = n["axis_a"]) j.axis_a = direction(v, join(p, "axis_a"));
+    if (const auto v = n["axis2"]) j.axis2 = direction(v, join(p, "axis2"));
+    if (const auto v = n["axis2_b"]) j.axis2_b = direction(v, join(p, "axis2_b"));
+    if ((j.axis2 || j.axis2_b) && !(j.axis || j.axis_a))
+      fail(n[j.axis2 ? "axis2" : "axis2_b"], join(p, j.axis2 ? "axis2" : "axis2_b"),
+           "the first frame axis needs the third: give axis (or axis_a) too");
+    if (j.axis && j.axis2 && !(std::abs(j.axis->dot(*j.axis2)) < kPerpendicularTolerance))
+      fail(n["axis2"], join(p, "axis2"),
+           fmt::format("must be perpendicular to axis (cosine of the angle {})",
+                       j.axis->dot(*j.axis2)));
+    if (const auto v = n["stiffness"]) b.stiffness = matrix6(v, join(p, "stiffness"));
+    if (const auto v = n["damping"]) b.damping = matrix6(v, join(p, "damping"));
+    if (!n["stiffness"] && !n["damping"]) fail(n, p, "give stiffness, damping or both");
+    return b;
+  }
+
+  // A 6 × 6 symmetric positive semi-definite matrix: six numbers (the diagonal) or six rows of six.
+  Mat<6, 6> matrix6(const YAML::Node& n, const std::string& key) const {
+    constexpr const char* kShape =
+        "expected 6 numbers (the diagonal) or 6 rows of 6 numbers (a symmetric matrix)";
+    if (!n.IsSequence() || n.size() != 6) fail(n, key, kShape);
+    Mat<6, 6> K = Mat<6, 6>::Zero();
+    const bool rows = n[0].IsSequence();
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (!rows) {
+        K(i, i) = number(n[i], indexed(key, i));
+        continue;
+      }
+      if (!n[i].IsSequence() || n[i].size() != 6) fail(n[i], indexed(key, i), kShape);
+      for (std::size_t k = 0; k < 6; ++k) K(i, k) = number(n[i][k], indexed(indexed(key, i), k));
+    }
+    const double scale = K.cwiseAbs().maxCoeff();
+    if (!((K - K.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * scale))
+      fail(n, key, "must be symmetric");
+    const double low = Eigen::SelfAdjointEigenSolver<Mat<6, 6>>(K).eigenvalues().minCoeff();
+    if (low < -1e-12 * scale)
+      fail(n, key, fmt::format("must be positive semi-definite (smallest eigenvalue {:g})", low));
+    return K;
   }
 
   Load read_load(const YAML::Node& n, const std::string& p, std::size_t index) const {
@@ -792,7 +898,9 @@ class Reader : YamlFields {
   Spring read_spring(const YAML::Node& n, const std::string& p, std::size_t index, const Model& m,
                      const KLShellReader& kl) {
     expect_map(n, p);
-    check_keys(n, p, {"name", "a", "b", "stiffness", "damping", "free_length"});
+    check_keys(n, p,
+               {"name", "a", "b", "stiffness", "damping", "free_length", "stiffness_law",
+                "damping_law", "actuator"});
     Spring s;
     s.source = source(n);
     s.name = n["name"] ? string(n["name"], join(p, "name")) : "spring" + std::to_string(index);
@@ -812,13 +920,56 @@ class Reader : YamlFields {
     };
     non_negative("stiffness", s.stiffness);
     non_negative("damping", s.damping);
-    if (!n["stiffness"] && !n["damping"]) fail(n, p, "give stiffness, damping or both");
+    for (const auto& [law, linear] :
+         {std::pair{"stiffness_law", "stiffness"}, {"damping_law", "damping"}})
+      if (n[law] && n[linear])
+        fail(n[law], join(p, law), fmt::format("give either {} or {}, not both", linear, law));
+    if (const YAML::Node v = n["stiffness_law"])
+      s.stiffness_law = law_expression(v, join(p, "stiffness_law"), "e");
+    if (const YAML::Node v = n["damping_law"]) {
+      s.damping_law = law_expression(v, join(p, "damping_law"), "v");
+      check_dissipative(v, join(p, "damping_law"), s.damping_law);
+    }
+    if (const YAML::Node v = n["actuator"]) s.actuator = time_function(v, join(p, "actuator"));
+    if (!n["stiffness"] && !n["damping"] && !n["stiffness_law"] && !n["damping_law"] &&
+        !n["actuator"])
+      fail(n, p, "give stiffness, damping (or stiffness_law, damping_law), actuator or several");
     if (const YAML::Node v = n["free_length"]) {
       double L = 0.0;
       non_negative("free_length", L);
       s.free_length = L;
     }
     return s;
+  }
+
+  // A force law: a number or a muParser expression in `variable` (e or v), compiled here so that
+  // a malformed expression or another variable is an error of the file.
+  std::string law_expression(const YAML::Node& n, const std::string& key,
+                             const std::string& variable) const {
+    if (!n.IsScalar()) fail(n, key, "expected a number or an expression in " + variable);
+    try {
+      elements::ForceLaw check(n.Scalar(), variable);
+    } catch (const std::invalid_argument& e) {
+      fail(n, key, e.what());
+    }
+    return n.Scalar();
+  }
+
+  // A damper must dissipate, v N_d(v) ≥ 0: checked at v = ±10ᵏ, k = −4 … 4, and v = 0 (N_d = 0).
+  void check_dissipative(const YAML::Node& n, const std::string& key,
+                         const std::string& expression) const {
+    const elements::ForceLaw law(expression, "v");
+    std::vector<double> samples{0.0};
+    for (int k = -4; k <= 4; ++k)
+      for (double sign : {-1.0, 1.0}) samples.push_back(sign * std::pow(10.0, k));
+    for (const double v : samples) {
+      const double N = law.force(v);
+      if (!std::isfinite(N) || v * N < 0.0 || (v == 0.0 && N != 0.0))
+        fail(n, key,
+             fmt::format("a damper must dissipate, v·N_d(v) ≥ 0 and N_d(0) = 0, but N_d({:g}) = "
+                         "{:g}",
+                         v, N));
+    }
   }
 
   void read_point(const YAML::Node& n, const std::string& p, std::optional<Vec3>& point,

@@ -38,14 +38,14 @@ std::string format_constant(double value) {
 }  // namespace
 
 struct TimeFunction::Impl {
-  double t = 0.0;  // bound by address into `parser`
+  double t = 0.0;  // the variable (t, or the one named), bound by address into `parser`
   mu::Parser parser;
 
-  explicit Impl(const std::string& expression) {
+  Impl(const std::string& expression, const std::string& variable) {
     try {
       parser.DefineConst("pi", std::numbers::pi);
-      parser.DefineConst("e", std::numbers::e);
-      parser.DefineVar("t", &t);
+      if (variable != "e") parser.DefineConst("e", std::numbers::e);
+      parser.DefineVar(variable, &t);
       parser.SetExpr(expression);
       parser.Eval();  // parses: reports syntax errors and unknown variables
       if (parser.GetNumResults() != 1)
@@ -63,18 +63,22 @@ TimeFunction::TimeFunction() : expression_("0") {}
 
 TimeFunction::TimeFunction(double value) : expression_(format_constant(value)), constant_(value) {}
 
-TimeFunction::TimeFunction(const std::string& expression) : expression_(expression) {
+TimeFunction::TimeFunction(const std::string& expression) : TimeFunction(expression, "t") {}
+
+TimeFunction::TimeFunction(const std::string& expression, const std::string& variable)
+    : expression_(expression), variable_(variable) {
   if (const auto value = plain_number(expression)) {
     constant_ = *value;
   } else {
-    impl_ = std::make_unique<Impl>(expression);
+    impl_ = std::make_unique<Impl>(expression, variable_);
   }
 }
 
 TimeFunction::TimeFunction(const TimeFunction& other)
     : expression_(other.expression_),
+      variable_(other.variable_),
       constant_(other.constant_),
-      impl_(other.impl_ ? std::make_unique<Impl>(other.expression_) : nullptr) {}
+      impl_(other.impl_ ? std::make_unique<Impl>(other.expression_, other.variable_) : nullptr) {}
 
 TimeFunction& TimeFunction::operator=(const TimeFunction& other) {
   if (this != &other) {

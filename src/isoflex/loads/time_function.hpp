@@ -1,6 +1,8 @@
 #pragma once
 // A scalar function of time f(t), written as a muParser expression in the variable `t`
-// (e.g. "1000*sin(pi*t)*(t<=2)"). Used for the components of prescribed forces and moments.
+// (e.g. "1000*sin(pi*t)*(t<=2)"). Used for the components of prescribed forces and moments, and,
+// with another variable name, for the force laws of springs (N(e) in the elongation `e`, N_d(v) in
+// the rate `v`: elements/force_law.hpp).
 //
 // The constants `pi` and `e` are defined; every muParser built-in (sin, cos, tan, exp, log, sqrt,
 // abs, min, max, sign, the comparisons <, <=, ==, !=, >=, >, &&, ||, and the ternary c ? a : b)
@@ -26,6 +28,8 @@ class TimeFunction {
   // expression) when it is malformed, uses a variable other than `t`, or yields more than one
   // value. The expression is evaluated once (at t = 0) to detect these errors.
   explicit TimeFunction(const std::string& expression);
+  // The same in the variable `variable` instead of `t` (a name muParser accepts, not pi or e).
+  TimeFunction(const std::string& expression, const std::string& variable);
 
   TimeFunction(const TimeFunction& other);
   TimeFunction& operator=(const TimeFunction& other);
@@ -38,10 +42,12 @@ class TimeFunction {
   // True when the expression is a plain number (evaluated without the parser).
   bool is_constant() const { return impl_ == nullptr; }
   const std::string& expression() const { return expression_; }
+  const std::string& variable() const { return variable_; }
 
  private:
   struct Impl;
   std::string expression_;
+  std::string variable_ = "t";
   double constant_ = 0.0;  // the value when is_constant()
   std::unique_ptr<Impl> impl_;
 };

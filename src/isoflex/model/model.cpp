@@ -87,7 +87,18 @@ bool has_material_damping(const Model& m) {
   for (const Shell& s : m.shells)
     if (s.material.eta > 0) return true;
   for (const Spring& s : m.springs)
-    if (s.damping > 0) return true;
+    if (s.damping > 0 || !s.damping_law.empty()) return true;
+  for (const Bushing& b : m.bushings)
+    if (b.damping.cwiseAbs().maxCoeff() > 0) return true;
+  for (const Joint& j : m.joints)
+    if (j.spring && j.spring->damping > 0) return true;
+  return false;
+}
+
+bool has_actuators(const Model& m) {
+  if (m.solver.analysis != Analysis::dynamic) return false;
+  for (const Spring& s : m.springs)
+    if (!s.actuator.empty()) return true;
   return false;
 }
 
@@ -97,8 +108,8 @@ const char* to_string(CoSimulationHold h) {
 
 bool has_external_loads(const Model& m) {
   return m.solver.analysis == Analysis::dynamic &&
-         !(m.loads.empty() && m.distributed_loads.empty() && m.shell_loads.empty() &&
-           m.kl_loads.empty());
+         (has_actuators(m) || !(m.loads.empty() && m.distributed_loads.empty() &&
+                                m.shell_loads.empty() && m.kl_loads.empty()));
 }
 
 std::string step_count_problem(const Solver& s) {

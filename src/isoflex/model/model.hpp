@@ -55,6 +55,16 @@ enum class JointType {
   fixed
 };
 
+// A spring–damper in a revolute or prismatic joint (joints `spring`; elements/revolute_spring.hpp,
+// elements/invariant_spring_damper.hpp): the moment −k (θ − θ₀) − c θ̇ about the axis on body_b
+// (θ the angle of b relative to a, counted across turns), or the force −k (s − s₀) − c ṡ along the
+// axis (s the slide of b's joint point along the axis of a). θ₀, s₀: `free_value` (default 0, the
+// configuration at t = 0).
+struct JointSpring {
+  double stiffness = 0.0, damping = 0.0;
+  double free_value = 0.0;
+};
+
 // A joint between body_a (the parent side; "ground" for the fixed space) and body_b.
 // Location: `point` (global at t = 0) or, alternatively, `point_b` in body-b coordinates (the
 // point on body a is then the coincident material point at t = 0).
@@ -80,6 +90,20 @@ struct Joint {
   // the shell, `point` lies on its surface at (xi, eta), found by point projection.
   std::string kl_shell;
   double xi = 0.0, eta = 0.0;
+  std::optional<JointSpring> spring;  // revolute and prismatic joints
+  Source source;
+};
+
+// A bushing (elements/invariant_spring_damper.hpp; docs/theory/coupling.md §7): linear 6 × 6
+// stiffness and damping between a frame on body_a (or the ground) and one on body_b, both at the
+// joint point and with the joint axes of `frame` (a Joint whose type is unused: body_a, body_b,
+// point/point_a/point_b, axis/axis_a as the third frame axis, axis2/axis2_b as the first). The
+// strains e = (u₁, u₂, u₃, θ₁, θ₂, θ₃): the displacement of b's point from a's and the
+// small-rotation measure of b's frame, in a's frame.
+struct Bushing {
+  std::string name;
+  Joint frame;
+  Mat<6, 6> stiffness = Mat<6, 6>::Zero(), damping = Mat<6, 6>::Zero();
   Source source;
 };
 
@@ -214,12 +238,15 @@ struct Probe {
 // A spring–damper between two material points (IGA-thesis (6.8)–(6.9); elements/
 // point_spring_damper.hpp): each end a point as a probe gives it (a body or node with point or
 // point_local, a kl_shell with point) or a fixed point of the ground (body "ground", point). The
-// force N = k (ζ − L) + c ζ̇ along the line, ζ the distance; L defaults to ζ at t = 0.
+// force N = k (ζ − L) + c ζ̇ along the line, ζ the distance; L defaults to ζ at t = 0. Instead of
+// k and c, nonlinear laws N(e) (e = ζ − L) and N_d(v) (v = ζ̇) as muParser expressions; an
+// actuator adds a force F(t) along the line (all tension > 0).
 struct Spring {
   std::string name;
   Probe a, b;  // their names unused
   double stiffness = 0.0, damping = 0.0;
   std::optional<double> free_length;
+  std::string stiffness_law, damping_law, actuator;  // expressions in e, v, t; empty: none
   Source source;
 };
 
@@ -442,6 +469,7 @@ struct Model {
   std::vector<ShellLoad> shell_loads;
   std::vector<Probe> probes;
   std::vector<Spring> springs;
+  std::vector<Bushing> bushings;
   std::vector<Surface> surfaces;
   std::vector<KLShell> kl_shells;
   std::vector<KLSupport> kl_supports;
@@ -469,11 +497,14 @@ inline constexpr double kMaxSteps = 1e8;
 // at least one load step). dt and t_end are > 0.
 std::string step_count_problem(const Solver& s);
 // Whether a dynamic run of `m` dissipates through material damping (eta > 0 in a kl_shells or
-// shells material or a beam section) or dampers (springs with damping > 0): history.csv gets the
+// shells material or a beam section) or dampers (springs with damping > 0 or a damping law,
+// bushings with a damping matrix, joints with a damping spring): history.csv gets the
 // dissipated_energy column.
 bool has_material_damping(const Model& m);
-// Whether a dynamic run has external loads (loads, distributed_loads, shell_loads, kl_loads):
-// history.csv then gets `external_work`, their work since t = 0.
+// Whether some spring has an actuator (a force prescribed in time).
+bool has_actuators(const Model& m);
+// Whether a dynamic run has external loads (loads, distributed_loads, shell_loads, kl_loads,
+// actuators): history.csv then gets `external_work`, their work since t = 0.
 bool has_external_loads(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);

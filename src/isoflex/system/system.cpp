@@ -231,10 +231,14 @@ VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) 
   return f;
 }
 
-VecX System::load_force(const VecX& q, double t) const {
+VecX System::external_force(const VecX& q, double t) const {
   VecX f = VecX::Zero(n()), fext = VecX::Zero(n());
   add_load_forces(q, t, 1.0, f, nullptr, &fext);
   return fext;
+}
+
+void System::accept(const VecX& q) const {
+  for (const auto& e : elements_) e->accept(stacked(q, e->nodes()));
 }
 
 VecX System::viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const {

@@ -133,7 +133,6 @@ struct ProbeInstance {
   std::vector<std::pair<int, double>> weights;
 };
 
-// A spring–damper of the model: its element in System::elements() (elements::PointSpringDamper).
 // A joint at a Kirchhoff–Love shell point (n-ary constraint `constraint`): the shell's material
 // point Σ w x_A over (node, w), where its reaction is reported (system/joint_reactions.hpp), and
 // the body's frame node (−1: the ground).
@@ -143,9 +142,12 @@ struct ShellPointJointInstance {
   int body = -1;
 };
 
+// A spring–damper of the model: its element in System::elements() (elements::PointSpringDamper)
+// and its actuator in System::loads() (loads::LineActuator; −1: none).
 struct SpringInstance {
   std::string name;
   int element_index = -1;
+  int actuator_load = -1;
   int ground_end = -1;  // 0 (a) or 1 (b) when that end is a point of the ground
 };
 
@@ -224,6 +226,12 @@ class System {
   // Statics (and the DAE integrators): f = ∇V(q) − f_ext(q, t); K (if not null) receives
   // ∂f/∂q = ∇²V − ∂f_ext/∂q in the same fixed pattern; load_norm (if not null) ‖f_ext(q, t)‖∞.
   VecX static_force(const VecX& q, double t, SpMat* K, double* load_norm = nullptr) const;
+  // The external forces alone, f_ext(q, t) (their work: history.csv's external_work).
+  VecX external_force(const VecX& q, double t) const;
+  // A converged configuration (time or load step): the elements keep their history from it
+  // (Element::accept: the turns of a revolute spring). Called by the integrators and the static
+  // solver after every converged step.
+  void accept(const VecX& q) const;
   // Whether some element has viscous forces (Kelvin–Voigt material damping, IGA-thesis §3.5).
   bool viscous() const { return viscous_; }
   // The elements' viscous forces f_v(q, q̇) (q̇ the time derivative of q; IGA-thesis (3.55)); K
@@ -362,6 +370,8 @@ class System {
   using NodeFinder =
       std::function<int(const std::string&, const model::Source&, const std::string&)>;
   void add_springs(const model::Model& m, const NodeFinder& find);  // system_springs.cpp
+  // Bushings and the springs of revolute and prismatic joints (system_frame_springs.cpp).
+  void add_frame_springs(const model::Model& m, const NodeFinder& find);
   void add_joint_edges(Build& build);
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);

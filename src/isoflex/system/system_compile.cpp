@@ -25,6 +25,7 @@
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/normal_equations.hpp"
+#include "isoflex/system/joint_frames.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/row_selection.hpp"
 #include "isoflex/system/system.hpp"
@@ -90,16 +91,6 @@ joints::Kind kind_of(model::JointType t) {
   return K::rigid;
 }
 
-// A right-handed frame with third column e₃.
-Mat3 frame_about(const Vec3& e3) {
-  const Vec3 n = e3.normalized();
-  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  const Vec3 e1 = (a - a.dot(n) * n).normalized();
-  Mat3 E;
-  E << e1, n.cross(e1), n;
-  return E;
-}
-
 }  // namespace
 
 System System::compile(const model::Model& model) {
@@ -124,8 +115,10 @@ System System::compile(const model::Model& model) {
   s.add_distributed_loads(build);
   s.add_shell_loads(build);
   s.add_probes(build);
-  s.add_springs(model, [&](const std::string& name, const model::Source& src,
-                           const std::string& what) { return build.find(name, src, what); });
+  const NodeFinder find = [&](const std::string& name, const model::Source& src,
+                              const std::string& what) { return build.find(name, src, what); };
+  s.add_springs(model, find);
+  s.add_frame_springs(model, find);
   // Joints and supports, the spanning forest, the rows.
   s.add_joint_edges(build);
   s.add_shell_supports(build);
@@ -636,7 +629,7 @@ void System::add_kl_support_rows(const model::Model& model, const model::KLSuppo
 // (IGA-thesis (4.20), (ξ, η) from the point projection (4.14)–(4.15) of the reader) and the
 // other side's material point φ + X_I d_I (a frame node) or a fixed point coincide: three rows,
 // linear in all coordinates. A revolute joint adds two rows that keep the axis, a vector Y_I d_I
-// fixed in the body, in its place relative to the patch (docs/theory/coupling.md §6):
+// fixed in the body, in its place relative to the patch (docs/theory/coupling.md §10):
 //   axis normal to the surface at t = 0:   a_α · (Y_I d_I) = 0,  α = 1, 2 (a_α = Σ R_A,α φ_A);
 //   axis tangent to it, axis = c^α a_α:    (c^α a_α) · (Z^k_I d_I) = 0,  k = 1, 2, Z^k ⊥ Y;
 // bilinear in the coordinates, so a QuadraticRows constraint (joints/quadratic_rows.hpp) over the
@@ -804,16 +797,7 @@ std::shared_ptr<const joints::Joint> System::frame_joint(const Build& build, std
   const fn::Q qa0 = node_q(q0_, parent), qb0 = node_q(q0_, child);
   // Body a and b of the model entry (not parent/child) at t = 0; the ground frame for ground.
   const fn::Q qA = node_q(q0_, build.edges[j].a), qB = node_q(q0_, build.edges[j].b);
-  const Mat3 RA = fn::directors(qA), RB = fn::directors(qB);
-  Vec3 p = fn::phi(qB);
-  if (J.point)
-    p = *J.point;
-  else if (J.point_a)
-    p = fn::phi(qA) + RA * *J.point_a;
-  else if (J.point_b)
-    p = fn::phi(qB) + RB * *J.point_b;
-  const std::optional<Vec3> axis = J.axis_a ? std::optional<Vec3>(RA * *J.axis_a) : J.axis;
-  const std::optional<Vec3> axis2 = J.axis2_b ? std::optional<Vec3>(RB * *J.axis2_b) : J.axis2;
+  const auto [p, axis, axis2] = joint_frame_at_start(J, qA, qB);
   Mat3 E = Mat3::Identity();
   using T = model::JointType;
   switch (J.type) {

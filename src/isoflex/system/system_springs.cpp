@@ -1,6 +1,7 @@
 // Spring–dampers between material points (model `springs`, elements/point_spring_damper.hpp):
 // each end's point as a linear map of its nodes' coordinates, x = P q_e + c, from the probe
-// machinery (System::probe_gradient: the points are linear in the coordinates).
+// machinery (System::probe_gradient: the points are linear in the coordinates); a spring's
+// actuator is a load on the same nodes (loads/line_actuator.hpp).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <map>
 
 #include "isoflex/elements/point_spring_damper.hpp"
+#include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/system/compile_error.hpp"
 #include "isoflex/system/system.hpp"
 
@@ -52,14 +54,21 @@ void System::add_springs(const model::Model& m, const NodeFinder& find) {
       maps[e].c = probe_point(q0_, *ends[e]) - maps[e].P * q0e;
     }
     const double distance = ((maps[0].P - maps[1].P) * q0e + maps[0].c - maps[1].c).norm();
-    const elements::SpringDamperLaw law{S.stiffness, S.damping, S.free_length.value_or(distance)};
+    const elements::SpringDamperLaw law{S.stiffness, S.damping, S.free_length.value_or(distance),
+                                        S.stiffness_law, S.damping_law};
     try {
       auto element =
           std::make_unique<elements::PointSpringDamper>(nodes, n, maps[0], maps[1], law, q0e);
       viscous_ = viscous_ || element->viscous();
-      springs_.push_back(
-          {S.name, static_cast<int>(elements_.size()), !ends[0] ? 0 : (!ends[1] ? 1 : -1)});
+      springs_.push_back({S.name, static_cast<int>(elements_.size()), -1,
+                          !ends[0] ? 0 : (!ends[1] ? 1 : -1)});
       elements_.push_back(std::move(element));
+      if (!S.actuator.empty()) {
+        springs_.back().actuator_load = static_cast<int>(loads_.size());
+        loads_.push_back(std::make_shared<loads::LineActuator>(
+            nodes, maps[0].P - maps[1].P, maps[0].c - maps[1].c, loads::TimeFunction(S.actuator),
+            q0e));
+      }
     } catch (const std::invalid_argument& e) {
       compile_fail(S.source, what, e.what());
     }

@@ -1,0 +1,123 @@
+// Force elements between two frames (docs/theory/coupling.md §7–§8): the bushings (model
+// `bushings`) and the springs of revolute and prismatic joints (joints `spring`), each an element
+// on the frame nodes of its two bodies — not a part of the joint's constraint, so they act alike
+// in every formulation. The frames are the joint's: its point and axes at t = 0
+// (joint_frames.hpp), fixed in each body (elements/frame_pair.hpp).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <memory>
+#include <utility>
+
+#include "isoflex/elements/frame_pair.hpp"
+#include "isoflex/elements/invariant_spring_damper.hpp"
+#include "isoflex/elements/revolute_spring.hpp"
+#include "isoflex/system/compile_error.hpp"
+#include "isoflex/system/joint_frames.hpp"
+#include "isoflex/system/system.hpp"
+
+namespace isoflex::system {
+
+namespace fn = frame_node;
+
+namespace {
+
+// The frame (point p, axes E: columns, global at t = 0) attached to the node with q0 = q, or
+// fixed in space on the ground.
+elements::AttachedFrame attached(const fn::Q& q, bool ground, const Vec3& p, const Mat3& E) {
+  if (ground) return {p, E, true};
+  const Mat3 R = fn::directors(q);
+  return {R.transpose() * (p - fn::phi(q)), R.transpose() * E, false};
+}
+
+}  // namespace
+
+void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
+  // The element of joint or bushing J with frame axes E, made by `make(nodes, pair, q0)`.
+  const auto add = [&](const model::Joint& J, const std::string& what, const auto& axes,
+                       const auto& make) {
+    const int a = find(J.body_a, J.source, what + ".body_a");
+    const int b = find(J.body_b, J.source, what + ".body_b");
+    for (const int node : {a, b})
+      if (node >= 0 && node_kind(node) != NodeKind::frame)
+        compile_fail(J.source, what,
+                     fmt::format("'{}' is not a body or a beam node: a spring between frames "
+                                 "needs frame nodes",
+                                 node_names_[node]));
+    const fn::Q qa = node_q(q0_, a), qb = node_q(q0_, b);
+    const JointFrameAtStart f = joint_frame_at_start(J, qa, qb);
+    const Mat3 E = axes(f);
+    std::vector<int> nodes;
+    for (const int node : {a, b})
+      if (node >= 0) nodes.push_back(node);
+    const elements::FramePair pair(attached(qa, a < 0, f.point, E),
+                                   attached(qb, b < 0, f.point, E));
+    try {
+      std::unique_ptr<elements::Element> e = make(nodes, pair, stacked(q0_, nodes));
+      viscous_ = viscous_ || e->viscous();
+      elements_.push_back(std::move(e));
+    } catch (const std::invalid_argument& e) {
+      compile_fail(J.source, what, e.what());
+    }
+  };
+
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const model::Joint& J = m.joints[j];
+    if (!J.spring) continue;
+    const model::JointSpring S = *J.spring;
+    const std::string what = fmt::format("joints[{}].spring", j);
+    const auto axes = [&](const JointFrameAtStart& f) {
+      if (!f.axis || !(f.axis->norm() > 0.0))
+        compile_fail(J.source, what, "the joint needs an axis");
+      return frame_about(*f.axis);
+    };
+    if (J.type == model::JointType::revolute) {
+      add(J, what, axes,
+          [&](const std::vector<int>& nodes, const elements::FramePair& pair,
+              const VecX& q0) -> std::unique_ptr<elements::Element> {
+            return std::make_unique<elements::RevoluteSpring>(nodes, pair, S.stiffness, S.damping,
+                                                              S.free_value, q0);
+          });
+    } else if (J.type == model::JointType::prismatic) {
+      add(J, what, axes,
+          [&](const std::vector<int>& nodes, const elements::FramePair& pair,
+              const VecX& q0) -> std::unique_ptr<elements::Element> {
+            return std::make_unique<elements::InvariantSpringDamper>(
+                nodes, std::vector<elements::QuadraticInvariant>{pair.displacement(2)},
+                MatX::Constant(1, 1, S.stiffness), MatX::Constant(1, 1, S.damping), q0,
+                VecX::Constant(1, S.free_value));
+          });
+    } else {
+      compile_fail(J.source, what, "a spring is built for revolute and prismatic joints only");
+    }
+  }
+
+  for (std::size_t k = 0; k < m.bushings.size(); ++k) {
+    const model::Bushing& B = m.bushings[k];
+    const std::string what = fmt::format("bushings[{}]", k);
+    // e₃ = axis, e₁ = axis2 (⊥ axis), e₂ = e₃ × e₁; axis alone: frame_about; none: global.
+    const auto axes = [&](const JointFrameAtStart& f) {
+      if (!f.axis) return Mat3::Identity().eval();
+      if (!f.axis2) return frame_about(*f.axis);
+      const Vec3 e3 = f.axis->normalized(), e1 = f.axis2->normalized();
+      if (!(std::abs(e1.dot(e3)) < 1e-9))
+        compile_fail(B.source, what + ".axis2",
+                     fmt::format("axis2 must be perpendicular to axis at t = 0 (cosine {:.3g})",
+                                 e1.dot(e3)));
+      Mat3 E;
+      E << e1, e3.cross(e1), e3;
+      return E;
+    };
+    add(B.frame, what, axes,
+        [&](const std::vector<int>& nodes, const elements::FramePair& pair,
+            const VecX& q0) -> std::unique_ptr<elements::Element> {
+          std::vector<elements::QuadraticInvariant> strains;
+          for (int i = 0; i < 3; ++i) strains.push_back(pair.displacement(i));
+          for (int i = 0; i < 3; ++i) strains.push_back(pair.rotation(i));
+          return std::make_unique<elements::InvariantSpringDamper>(
+              nodes, std::move(strains), MatX(B.stiffness), MatX(B.damping), q0);
+        });
+  }
+}
+
+}  // namespace isoflex::system
