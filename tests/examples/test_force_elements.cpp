@@ -417,3 +417,32 @@ TEST(NonlinearSpringFreeFlight, CliWritesTheNonlinearForceAndTheWork) {
   const std::string history = test::read_text((dir.path() / "out" / "history.csv").string());
   EXPECT_NE(history.find(",residual,dissipated_energy,external_work\n"), std::string::npos);
 }
+
+// forces.csv rows of the springs between frames (the snapshot's springs): a joint spring's angle
+// or slide with its moment or force, a bushing's six strains with K e (+ C ė); their energies are
+// the potential energy of the free flight (no other potential).
+TEST(ForceElementsOutput, JointSpringsAndBushingsAreReported) {
+  const test::Trajectory r = test::simulate(read(chain()), F::reparametrized);
+  const auto& last = r.snapshots.back();
+  ASSERT_EQ(last.springs.size(), 2u);
+  const auto& hinge = last.springs[0];
+  const auto& slide = last.springs[1];
+  EXPECT_EQ(hinge.name, "hinge");
+  EXPECT_EQ(slide.name, "slide");
+  EXPECT_GT(hinge.length, 30.0);  // θ across five turns
+  EXPECT_NEAR(hinge.force, 0.005 * hinge.elongation, 1e-15);
+  // V = ½ k_θ θ² + ½ k_s (s − s₀)²: the potential energy of the model.
+  const double k_slide = slide.force / slide.elongation;
+  EXPECT_NEAR(0.5 * 0.005 * hinge.elongation * hinge.elongation +
+                  0.5 * k_slide * slide.elongation * slide.elongation,
+              last.potential_energy, 1e-12 * r.snapshots.front().total_energy);
+  const test::Trajectory b = test::simulate(read(kTwoBodies + kBushing), F::reparametrized);
+  const auto& s = b.snapshots.back();
+  ASSERT_EQ(s.springs.size(), 6u);
+  EXPECT_EQ(s.springs[0].name, "mount.u1");
+  EXPECT_EQ(s.springs[5].name, "mount.theta3");
+  double V = 0.0;
+  for (const auto& x : s.springs) V += 0.5 * x.force * x.elongation;  // ½ eᵀ K e, no damping
+  EXPECT_NEAR(V, s.potential_energy, 1e-12 * b.snapshots.front().total_energy);
+  EXPECT_GT(s.potential_energy, 1e-3);
+}

@@ -38,8 +38,12 @@ class InvariantSpringDamper final : public Element {
   VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                 double* values) const override;
 
-  // The strains e(q).
+  // The strains e(q), their rates ė = ∇e(q) q̇ and the forces K e + C ė (forces.csv).
   VecX strains(const VecX& q) const;
+  VecX strain_rates(const VecX& q, const VecX& qdot) const { return strain_gradient(q) * qdot; }
+  VecX forces(const VecX& q, const VecX& qdot) const {
+    return K_ * strains(q) + C_ * strain_rates(q, qdot);
+  }
 
  private:
   MatX strain_gradient(const VecX& q) const;  // rows ∇e_iᵀ

@@ -119,4 +119,12 @@ VecX RevoluteSpring::viscous_force_in_pattern(const VecX& q, const VecX& qdot, d
   return (damping_ * rate) * g;
 }
 
+double RevoluteSpring::rate(const VecX& q, const VecX& qdot) const {
+  return angle_gradient(q, nullptr).dot(qdot);
+}
+
+double RevoluteSpring::moment(const VecX& q, const VecX& qdot) const {
+  return stiffness_ * (angle(q) - free_angle_) + damping_ * rate(q, qdot);
+}
+
 }  // namespace isoflex::elements

@@ -46,6 +46,10 @@ class RevoluteSpring final : public Element {
 
   // θ(q) on the branch nearest the accepted angle.
   double angle(const VecX& q) const;
+  // θ̇ = ∇θ(q)·q̇ and the moment k (θ − θ₀) + c θ̇ about the axis (forces.csv).
+  double rate(const VecX& q, const VecX& qdot) const;
+  double moment(const VecX& q, const VecX& qdot) const;
+  double free_angle() const { return free_angle_; }
 
  private:
   using Vec2 = Vec<2>;

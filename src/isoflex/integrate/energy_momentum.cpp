@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "isoflex/elements/invariant_spring_damper.hpp"
 #include "isoflex/elements/point_spring_damper.hpp"
+#include "isoflex/elements/revolute_spring.hpp"
 #include "isoflex/integrate/step_subdivision.hpp"
 #include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/solve/linear_solver.hpp"
@@ -502,6 +504,29 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
                    *sys_.loads()[static_cast<std::size_t>(sp.actuator_load)])
                    .force(s.t);
     out.springs.push_back({sp.name, z, z - e.law().free_length, e.rate(q, v), force});
+  }
+  // Springs between frames: a joint spring's angle or slide (length: its value, elongation: from
+  // the free value), a bushing's six strains as rows NAME.u1 … NAME.theta3; force: the moment or
+  // force along each (K e + C ė).
+  for (const auto& fs : sys_.frame_springs()) {
+    const auto& el = *sys_.elements()[static_cast<std::size_t>(fs.element_index)];
+    const VecX q = sys_.stacked(s.q, el.nodes()), v = sys_.stacked(s.v, el.nodes());
+    using K = system::FrameSpringInstance::Kind;
+    if (fs.kind == K::revolute) {
+      const auto& r = dynamic_cast<const elements::RevoluteSpring&>(el);
+      const double theta = r.angle(q);
+      out.springs.push_back({fs.name, theta, theta - r.free_angle(), r.rate(q, v), r.moment(q, v)});
+      continue;
+    }
+    const auto& b = dynamic_cast<const elements::InvariantSpringDamper&>(el);
+    const VecX e = b.strains(q), rate = b.strain_rates(q, v), f = b.forces(q, v);
+    if (fs.kind == K::prismatic) {
+      out.springs.push_back({fs.name, e(0) + fs.free_value, e(0), rate(0), f(0)});
+      continue;
+    }
+    static constexpr const char* kStrain[6] = {"u1", "u2", "u3", "theta1", "theta2", "theta3"};
+    for (int i = 0; i < 6; ++i)
+      out.springs.push_back({fs.name + "." + kStrain[i], e(i), e(i), rate(i), f(i)});
   }
   return out;
 }

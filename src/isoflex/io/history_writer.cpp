@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <iterator>
 #include <string>
@@ -163,7 +164,11 @@ void ResultantsWriter::rows(const integrate::Snapshot& s, std::string& out) cons
 }
 
 ForcesWriter::ForcesWriter(const std::filesystem::path& outdir, const model::Model& model)
-    : CsvRowsWriter(file_if(!model.springs.empty(), outdir / "forces.csv"), kForcesHeader) {}
+    : CsvRowsWriter(file_if(!model.springs.empty() || !model.bushings.empty() ||
+                                std::any_of(model.joints.begin(), model.joints.end(),
+                                            [](const model::Joint& j) { return j.spring; }),
+                            outdir / "forces.csv"),
+                    kForcesHeader) {}
 
 void ForcesWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   for (const auto& f : s.springs)

@@ -144,6 +144,17 @@ struct ShellPointJointInstance {
 
 // A spring–damper of the model: its element in System::elements() (elements::PointSpringDamper)
 // and its actuator in System::loads() (loads::LineActuator; −1: none).
+// A spring–damper between two frames (system_frame_springs.cpp): a joint's spring (revolute:
+// elements::RevoluteSpring; prismatic: a one-strain elements::InvariantSpringDamper) or a bushing
+// (six strains u₁ u₂ u₃ θ₁ θ₂ θ₃), reported in forces.csv under `name`.
+struct FrameSpringInstance {
+  enum class Kind { revolute, prismatic, bushing };
+  std::string name;
+  int element_index = -1;
+  Kind kind = Kind::revolute;
+  double free_value = 0.0;  // prismatic: the free slide s₀
+};
+
 struct SpringInstance {
   std::string name;
   int element_index = -1;
@@ -290,6 +301,7 @@ class System {
   const std::vector<ProbeInstance>& probes() const { return probes_; }
   // The spring–dampers (model springs) and their elements in elements().
   const std::vector<SpringInstance>& springs() const { return springs_; }
+  const std::vector<FrameSpringInstance>& frame_springs() const { return frame_springs_; }
   const std::vector<ShellPointJointInstance>& shell_point_joints() const {
     return shell_point_joints_;
   }
@@ -422,6 +434,7 @@ class System {
   std::vector<int> element_part_, load_part_;
   std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
+  std::vector<FrameSpringInstance> frame_springs_;
   std::vector<ShellPointJointInstance> shell_point_joints_;
   std::vector<ConstraintInstance> nary_;
   std::vector<int> tree_order_;  // joint indices, parents before children

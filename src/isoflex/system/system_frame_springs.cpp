@@ -35,7 +35,7 @@ elements::AttachedFrame attached(const fn::Q& q, bool ground, const Vec3& p, con
 void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
   // The element of joint or bushing J with frame axes E, made by `make(nodes, pair, q0)`.
   const auto add = [&](const model::Joint& J, const std::string& what, const auto& axes,
-                       const auto& make) {
+                       const auto& make, FrameSpringInstance record) {
     const int a = find(J.body_a, J.source, what + ".body_a");
     const int b = find(J.body_b, J.source, what + ".body_b");
     for (const int node : {a, b})
@@ -55,6 +55,8 @@ void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
     try {
       std::unique_ptr<elements::Element> e = make(nodes, pair, stacked(q0_, nodes));
       viscous_ = viscous_ || e->viscous();
+      record.element_index = static_cast<int>(elements_.size());
+      frame_springs_.push_back(std::move(record));
       elements_.push_back(std::move(e));
     } catch (const std::invalid_argument& e) {
       compile_fail(J.source, what, e.what());
@@ -77,7 +79,8 @@ void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
               const VecX& q0) -> std::unique_ptr<elements::Element> {
             return std::make_unique<elements::RevoluteSpring>(nodes, pair, S.stiffness, S.damping,
                                                               S.free_value, q0);
-          });
+          },
+          {J.name, -1, FrameSpringInstance::Kind::revolute, S.free_value});
     } else if (J.type == model::JointType::prismatic) {
       add(J, what, axes,
           [&](const std::vector<int>& nodes, const elements::FramePair& pair,
@@ -86,7 +89,8 @@ void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
                 nodes, std::vector<elements::QuadraticInvariant>{pair.displacement(2)},
                 MatX::Constant(1, 1, S.stiffness), MatX::Constant(1, 1, S.damping), q0,
                 VecX::Constant(1, S.free_value));
-          });
+          },
+          {J.name, -1, FrameSpringInstance::Kind::prismatic, S.free_value});
     } else {
       compile_fail(J.source, what, "a spring is built for revolute and prismatic joints only");
     }
@@ -116,7 +120,8 @@ void System::add_frame_springs(const model::Model& m, const NodeFinder& find) {
           for (int i = 0; i < 3; ++i) strains.push_back(pair.rotation(i));
           return std::make_unique<elements::InvariantSpringDamper>(
               nodes, std::move(strains), MatX(B.stiffness), MatX(B.damping), q0);
-        });
+        },
+        {B.name, -1, FrameSpringInstance::Kind::bushing, 0.0});
   }
 }
 
