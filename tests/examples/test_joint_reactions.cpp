@@ -102,3 +102,50 @@ TEST(JointReactions, RecoveredMultipliersAreTheConstrainedFormulations) {
     EXPECT_LT((s.lambda - own).norm(), 1e-9 * own.norm()) << i;
   }
 }
+
+// Joints with a director-shell node (system/joint_reactions.hpp, node reactions): a plate whose
+// edge is attached to a hub (rigid joints "p[i]-hub", director node to frame node), the hub
+// clamped to the ground, a force P at the plate's far corner, linear statics. The attachments
+// hold the plate's nodes with −P together (on body_b, the shell nodes), and the clamp the hub
+// with −P.
+TEST(JointReactions, DirectorNodeJointsCarryTheLoadToTheHub) {
+  const model::Model m = io::read_model_string(R"yaml(
+solver: {analysis: static, dt: 1, t_end: 1, linear: true}
+bodies:
+  - {name: hub, mass: 2, inertia: [0.1, 0.2, 0.3], position: [-0.1, 0.25, 0]}
+joints:
+  - {name: clamp, type: fixed, body_a: ground, body_b: hub}
+shells:
+  - name: p
+    plate: {corners: [[0, 0, 0], [1, 0, 0], [1, 0.5, 0], [0, 0.5, 0]], elements: [3, 2]}
+    material: {E: 1.0e5, nu: 0.3, thickness: 0.05, density: 100}
+shell_connections:
+  - {shell: p, edge: u0, attach_to: hub}
+shell_loads:
+  - {shell: p, nodes: [3], force: ["0.2*t", "0.1*t", "-0.5*t"]}
+)yaml",
+                                               "m.yaml");
+  const auto sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  const VecX x = eq.solve().x;
+  const auto r =
+      system::joint_reactions(sys, x.head(sys.n()), x.segment(sys.n(), sys.m_selected()));
+  const Vec3 P(0.2, 0.1, -0.5);
+  Vec3 attached = Vec3::Zero(), clamp = Vec3::Zero();
+  int count = 0;
+  for (const auto& j : r) {
+    if (j.joint == "clamp") {
+      clamp = j.force;
+    } else {
+      EXPECT_NE(j.joint.find("-hub"), std::string::npos) << j.joint;
+      attached += j.force;
+      ++count;
+    }
+  }
+  std::printf(
+      "  [reactions] %d attachments carry (%.6g, %.6g, %.6g), the clamp (%.6g, %.6g, %.6g)\n",
+      count, attached.x(), attached.y(), attached.z(), clamp.x(), clamp.y(), clamp.z());
+  EXPECT_EQ(count, 3);  // the 3 nodes of edge u0
+  EXPECT_LT((clamp + P).norm(), 1e-10 * P.norm());
+  EXPECT_LT((attached + P).norm(), 1e-10 * P.norm());  // on body_b, the plate's nodes
+}

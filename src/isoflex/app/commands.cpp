@@ -615,7 +615,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     } else {
       doing = "while setting up the time stepping";
       integ = integrate::make_time_integrator(sys, m.solver);
-      integ->set_joint_reactions(m.output.history && m.output.reactions);
+      // Only where reactions.csv is written (a model with joints): the recovery costs a solve.
+      integ->set_joint_reactions(m.output.history && m.output.reactions &&
+                                 !(m.joints.empty() && m.kl_surface_joints.empty()));
       sum.n_unknowns = integ->unknowns();
       const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
       for (int i = 0; i < steps; ++i) {

@@ -197,7 +197,7 @@ CoSimulation::CoSimulation(const model::Model& m)
   for (const model::Body& b : m.bodies) mbs_bodies_.push_back(b.name);
   mbs_integ_ = make_time_integrator(*mbs_, mbs.solver);
   shell_integ_ = make_time_integrator(*shell_, shell.solver);
-  mbs_integ_->set_joint_reactions(m.output.reactions);
+  mbs_integ_->set_joint_reactions(m.output.reactions && !m.joints.empty());
   mbs_state_ = mbs_integ_->initial_state();
   shell_state_ = shell_integ_->initial_state();
 }

@@ -411,10 +411,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
 }
 
 void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
-  reactions_ =
-      on && (!sys_.shell_point_joints().empty() ||
-             std::any_of(sys_.joints().begin(), sys_.joints().end(),
-                         [](const system::JointInstance& J) { return J.frame != nullptr; }));
+  reactions_ = on && (!sys_.shell_point_joints().empty() || !sys_.joints().empty());
 }
 
 VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, double dt,

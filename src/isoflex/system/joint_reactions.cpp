@@ -7,6 +7,39 @@
 
 namespace isoflex::system {
 
+namespace {
+
+// A joint with a director or point node (director-shell nodes, KL control points): the net force
+// and moment of its rows' forces on body_b's node, about that node's position φ (the joint point:
+// such joints join at nodes), global components in both columns (a node without a frame).
+JointReaction node_reaction(const System& sys, const JointInstance& J, const VecX& q,
+                            const VecX& lambda, const std::vector<int>& position) {
+  const auto& nodes = J.rows->nodes();
+  const int m = J.rows->constraint_count();
+  VecX lam = VecX::Zero(m);
+  for (int i = 0; i < m; ++i)
+    if (const int p = position[static_cast<std::size_t>(J.row_offset + i)]; p >= 0)
+      lam(i) = lambda(p);
+  const VecX f = -(J.rows->jacobian(sys.stacked(q, nodes)).transpose() * lam);
+  // body_b's node (the child unless reversed); the ground as body_b: the other node, negated.
+  const int b = J.reversed ? J.parent : J.child;
+  const int node = b >= 0 ? b : (J.reversed ? J.child : J.parent);
+  const double sign = b >= 0 ? 1.0 : -1.0;
+  int o = 0;
+  for (int a : nodes) {
+    if (a == node) break;
+    o += sys.coordinate_count(a);
+  }
+  const auto qn = sys.node_q(q, node);
+  const Vec3 F = sign * Vec3(f.segment<3>(o));
+  Vec3 M = Vec3::Zero();
+  for (int k = 1; k < sys.coordinate_count(node) / 3; ++k)  // directors: d × f_d
+    M += sign * Vec3(qn.segment<3>(3 * k)).cross(Vec3(f.segment<3>(o + 3 * k)));
+  return {J.name, qn.head<3>(), F, M, F, M};
+}
+
+}  // namespace
+
 std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, const VecX& lambda) {
   assert(lambda.size() == sys.m_selected());
   std::vector<int> position(static_cast<std::size_t>(sys.m_all()), -1);
@@ -14,7 +47,10 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     position[static_cast<std::size_t>(sys.selected_rows()[static_cast<std::size_t>(p)])] = p;
   std::vector<JointReaction> out;
   for (const JointInstance& J : sys.joints()) {
-    if (!J.frame) continue;
+    if (!J.frame) {
+      if (J.rows) out.push_back(node_reaction(sys, J, q, lambda, position));
+      continue;
+    }
     const auto qa = sys.node_q(q, J.parent), qb = sys.node_q(q, J.child);
     const int m = J.frame->constraint_count();
     VecX lam = VecX::Zero(m);

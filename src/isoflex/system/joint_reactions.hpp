@@ -20,8 +20,12 @@ struct JointReaction {
   Vec3 force_local = Vec3::Zero(), moment_local = Vec3::Zero();  // in body_b's joint frame
 };
 
-// The reactions of the joints between frame nodes (bodies, beam nodes) at q for the multipliers
-// λ of the selected rows (System::selected_rows order). A joint whose rows are partly redundant
+// The reactions of the joints at q for the multipliers λ of the selected rows
+// (System::selected_rows order): joints between frame nodes (bodies, beam nodes) as above; joints
+// with a director-shell node or a KL control point on body_b's side (or the other side, negated,
+// with the ground as body_b): the force and the moment d × f_d about the node (global components
+// in the local columns too); joints at KL shell points: on the shell at its material point (the
+// rows' net force and moment on the control points). A joint whose rows are partly redundant
 // (not selected) gets the part its selected rows carry.
 std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, const VecX& lambda);
 
