@@ -7,9 +7,12 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
 
+#include "isoflex/io/model_reader.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/system/row_selection.hpp"
+#include "isoflex/system/system.hpp"
 #include "support/finite_difference.hpp"
 
 using namespace isoflex;
@@ -65,4 +68,36 @@ TEST(RowSelection, BlocksGiveTheWholeMatrixSelection) {
   for (int i = 0; i < 8; ++i) F.row(i).segment(2 * i, 4) = test::random_vector(g, 4);
   EXPECT_EQ(system::independent_rows_by_blocks(F.sparseView()).rows, solve::independent_rows_lu(F));
   EXPECT_TRUE(system::independent_rows(Eigen::SparseMatrix<double>(0, 3)).rows.empty());
+}
+
+// AF-BS (strip_constraints) rows are selected per interface; four patches meeting at an inner
+// corner make the rows of the two collinear interfaces there depend on each other (the corner
+// triples), which a per-interface selection cannot see — a located error, not a singular
+// Newton matrix (measured before: the first correction 1e16 times the residual). Two or three
+// patches in a row are fine.
+TEST(RowSelection, StripConstraintsAtAnInnerCornerAreALocatedError) {
+  const auto plate = [](int pu, int pv) {
+    std::string s = "solver: {analysis: static, dt: 1, t_end: 1}\nsurfaces:\n";
+    std::string shells = "kl_shells:\n";
+    for (int j = 0; j < pv; ++j)
+      for (int i = 0; i < pu; ++i) {
+        const std::string n = "p" + std::to_string(i) + std::to_string(j);
+        s += "  - {name: " + n + ", builtin: {type: rectangle, size: [0.5, 0.5], corner: [" +
+             std::to_string(0.5 * i) + ", " + std::to_string(0.5 * j) +
+             ", 0]}, refine: {elevate: [1, 1], knots_per_span: [2, 2]}}\n";
+        shells += "  - {name: " + n + ", surface: " + n +
+                  ", material: {E: 1.0e7, nu: 0.3, thickness: 0.01}}\n";
+      }
+    return s + shells + "kl_interfaces: {coupling: strip_constraints}\n";
+  };
+  EXPECT_NO_THROW(system::System::compile(io::read_model_string(plate(3, 1), "m.yaml")));
+  try {
+    system::System::compile(io::read_model_string(plate(2, 2), "m.yaml"));
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("depend on each other where the interfaces meet"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("use coupling angle or bending_strip there"), std::string::npos) << what;
+  }
 }

@@ -985,6 +985,43 @@ void System::select_loop_rows() {
       reselected_groups_.push_back(std::move(group));
     }
   }
+  // The rows of each reselected group are chosen by themselves (static_equilibrium.cpp). Two
+  // groups on control points they share — AF-BS interfaces crossing at a point where four
+  // patches meet — can depend on each other there; a selection per group then keeps dependent
+  // rows and the Newton matrix is singular (measured: the first correction 1e16 times the
+  // residual). Refused until the selection is joint.
+  for (std::size_t a = 0; a < reselected_groups_.size(); ++a)
+    for (std::size_t b = a + 1; b < reselected_groups_.size(); ++b) {
+      const ConstraintInstance& A =
+          nary_[static_cast<std::size_t>(reselected_groups_[a].constraint)];
+      const ConstraintInstance& B =
+          nary_[static_cast<std::size_t>(reselected_groups_[b].constraint)];
+      const auto& na = A.constraint->nodes();
+      if (std::none_of(B.constraint->nodes().begin(), B.constraint->nodes().end(),
+                       [&](int x) { return std::find(na.begin(), na.end(), x) != na.end(); }))
+        continue;
+      std::vector<int> rows;
+      for (const ConstraintInstance* C : {&A, &B})
+        for (int i = 0; i < C->constraint->constraint_count(); ++i)
+          rows.push_back(C->row_offset + i);
+      const SpMat G = modulo_linear_conditions(jacobian_rows(q0_, rows));
+      std::vector<int> columns;  // the nonzero ones, so that the dense LU stays small
+      for (int c = 0; c < G.outerSize(); ++c)
+        if (SpMat::InnerIterator(G, c)) columns.push_back(c);
+      MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(columns.size()));
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        for (SpMat::InnerIterator it(G, columns[k]); it; ++it)
+          D(it.row(), static_cast<Eigen::Index>(k)) = it.value();
+      const int joint = static_cast<int>(solve::independent_rows_lu(D).size());
+      const int apart = reselected_groups_[a].rank + reselected_groups_[b].rank;
+      if (joint < apart)
+        fail(B.source, B.name,
+             fmt::format("the strip_constraints rows of '{}' and '{}' depend on each other where "
+                         "the interfaces meet ({} independent together, {} apart): AF-BS at "
+                         "crossing interfaces is not built; use coupling angle or bending_strip "
+                         "there",
+                         A.name, B.name, joint, apart));
+    }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
   // of d the rank test cannot see, so a moving row must be independent.
   for (int r : redundant_rows_) {
