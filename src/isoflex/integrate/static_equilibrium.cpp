@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/row_selection.hpp"
 
 namespace isoflex::integrate {
 
@@ -68,7 +69,8 @@ std::vector<bool> dropped_rows(const system::System& sys, const VecX& q) {
   for (const auto& g : sys.reselected_groups()) {
     std::vector<int> rows;
     for (int p : g.positions) rows.push_back(sys.selected_rows()[static_cast<std::size_t>(p)]);
-    const MatX Gr = MatX(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
+    const MatX Gr =
+        system::dense_nonzero_columns(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
     for (int p : g.positions) out[static_cast<std::size_t>(p)] = true;
     for (int i : solve::leading_rows_lu(Gr, g.rank))
       out[static_cast<std::size_t>(g.positions[static_cast<std::size_t>(i)])] = false;

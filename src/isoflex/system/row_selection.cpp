@@ -102,4 +102,15 @@ IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double th
           static_cast<int>(solve::independent_rows_qr(D, threshold).size())};
 }
 
+MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G) {
+  std::vector<int> columns;
+  for (int c = 0; c < G.outerSize(); ++c)
+    if (Eigen::SparseMatrix<double>::InnerIterator(G, c)) columns.push_back(c);
+  MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(G, columns[k]); it; ++it)
+      D(it.row(), static_cast<Eigen::Index>(k)) = it.value();
+  return D;
+}
+
 }  // namespace isoflex::system

@@ -24,6 +24,11 @@ struct IndependentRows {
 constexpr double kDenseEntries = 4e6;  // 32 MB as a dense matrix
 
 IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double threshold = 1e-10);
+// G as a dense matrix of its nonzero columns only (in order): a few rows over a large system
+// (an interface's rows) stay small, and a full-pivot LU of it chooses the same rows as of all of G
+// (zero columns hold no pivot and change no entry).
+MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G);
+
 // The block path alone (tests).
 IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
                                            double threshold = 1e-10);

@@ -980,7 +980,8 @@ void System::select_loop_rows() {
     selected_compliance_.tail(C.constraint->constraint_count()).setConstant(c);
     if (C.constraint->reselected()) {
       group.rank = static_cast<int>(
-          solve::independent_rows_lu(MatX(modulo_linear_conditions(jacobian_rows(q0_, rows))))
+          solve::independent_rows_lu(
+              dense_nonzero_columns(modulo_linear_conditions(jacobian_rows(q0_, rows))))
               .size());
       reselected_groups_.push_back(std::move(group));
     }
@@ -1004,14 +1005,7 @@ void System::select_loop_rows() {
       for (const ConstraintInstance* C : {&A, &B})
         for (int i = 0; i < C->constraint->constraint_count(); ++i)
           rows.push_back(C->row_offset + i);
-      const SpMat G = modulo_linear_conditions(jacobian_rows(q0_, rows));
-      std::vector<int> columns;  // the nonzero ones, so that the dense LU stays small
-      for (int c = 0; c < G.outerSize(); ++c)
-        if (SpMat::InnerIterator(G, c)) columns.push_back(c);
-      MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(columns.size()));
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        for (SpMat::InnerIterator it(G, columns[k]); it; ++it)
-          D(it.row(), static_cast<Eigen::Index>(k)) = it.value();
+      const MatX D = dense_nonzero_columns(modulo_linear_conditions(jacobian_rows(q0_, rows)));
       const int joint = static_cast<int>(solve::independent_rows_lu(D).size());
       const int apart = reselected_groups_[a].rank + reselected_groups_[b].rank;
       if (joint < apart)
