@@ -61,20 +61,26 @@ bool has_follower_loads(const system::System& sys) {
 
 // The selected rows of the System's reselected groups that are not kept at q: per group, the
 // group.rank rows of the largest pivots of the full-pivot LU of its rows modulo the linear
-// conditions (IGA-thesis Alg. 5.1, (5.35)), a mask over the m selected rows.
+// conditions and the rows kept in the groups before it (IGA-thesis Alg. 5.1, (5.35);
+// system::select_group_rows), a mask over the m selected rows.
 // The count stays that of the reference: off the constraint manifold the strip's stress adds
 // rank (geometric stiffness) that the constraints do not have.
 std::vector<bool> dropped_rows(const system::System& sys, const VecX& q) {
   std::vector<bool> out(static_cast<std::size_t>(sys.m_selected()), false);
+  std::vector<SpMat> groups;
+  std::vector<int> counts;
   for (const auto& g : sys.reselected_groups()) {
     std::vector<int> rows;
     for (int p : g.positions) rows.push_back(sys.selected_rows()[static_cast<std::size_t>(p)]);
-    const MatX Gr =
-        system::dense_nonzero_columns(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
+    groups.push_back(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
+    counts.push_back(g.rank);
     for (int p : g.positions) out[static_cast<std::size_t>(p)] = true;
-    for (int i : solve::leading_rows_lu(Gr, g.rank))
-      out[static_cast<std::size_t>(g.positions[static_cast<std::size_t>(i)])] = false;
   }
+  const auto chosen = system::select_group_rows(groups, counts);
+  for (std::size_t k = 0; k < chosen.size(); ++k)
+    for (int i : chosen[k])
+      out[static_cast<std::size_t>(
+          sys.reselected_groups()[k].positions[static_cast<std::size_t>(i)])] = false;
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
+#include <iterator>
 #include <numeric>
 
 #include "isoflex/solve/linear_solver.hpp"
@@ -111,6 +112,75 @@ MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(G, columns[k]); it; ++it)
       D(it.row(), static_cast<Eigen::Index>(k)) = it.value();
   return D;
+}
+
+std::vector<std::vector<int>> select_group_rows(
+    const std::vector<Eigen::SparseMatrix<double>>& groups, std::vector<int>& counts) {
+  using SpMat = Eigen::SparseMatrix<double>;
+  using SpRow = Eigen::SparseVector<double>;
+  std::vector<std::vector<SpRow>> kept(groups.size());  // per group, the rows kept
+  std::vector<std::vector<int>> group_columns(groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (int c = 0; c < groups[g].outerSize(); ++c)
+      if (SpMat::InnerIterator(groups[g], c)) group_columns[g].push_back(c);
+  // Groups connected through shared columns (interfaces meeting at corners, and on through the
+  // grid): a dependency among rows may run through any group of the component.
+  std::vector<std::size_t> component(groups.size());
+  std::iota(component.begin(), component.end(), std::size_t{0});
+  const auto root = [&](std::size_t g) {
+    while (component[g] != g) g = component[g] = component[component[g]];
+    return g;
+  };
+  for (std::size_t a = 0; a < groups.size(); ++a)
+    for (std::size_t b = a + 1; b < groups.size(); ++b) {
+      std::vector<int> common;
+      std::set_intersection(group_columns[a].begin(), group_columns[a].end(),
+                            group_columns[b].begin(), group_columns[b].end(),
+                            std::back_inserter(common));
+      if (!common.empty()) component[root(a)] = root(b);
+    }
+  std::vector<std::vector<int>> out(groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const SpMat& G = groups[g];
+    const std::vector<int>& columns = group_columns[g];
+    std::vector<const SpRow*> near;
+    for (std::size_t h = 0; h < g; ++h)
+      if (root(h) == root(g))
+        for (const SpRow& r : kept[h]) near.push_back(&r);
+    // The union of the columns, and G and the near kept rows dense over it.
+    std::vector<int> all = columns;
+    for (const SpRow* r : near)
+      for (SpRow::InnerIterator it(*r); it; ++it) all.push_back(static_cast<int>(it.index()));
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    const auto at = [&](int c) {
+      return static_cast<Eigen::Index>(std::lower_bound(all.begin(), all.end(), c) - all.begin());
+    };
+    MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(all.size()));
+    for (int c : columns)
+      for (SpMat::InnerIterator it(G, c); it; ++it) D(it.row(), at(c)) = it.value();
+    if (!near.empty()) {
+      MatX K = MatX::Zero(static_cast<Eigen::Index>(near.size()), D.cols());
+      for (std::size_t i = 0; i < near.size(); ++i)
+        for (SpRow::InnerIterator it(*near[i]); it; ++it)
+          K(static_cast<Eigen::Index>(i), at(static_cast<int>(it.index()))) = it.value();
+      const Eigen::ColPivHouseholderQR<MatX> qr(K.transpose());
+      const MatX Q = MatX(qr.householderQ()).leftCols(qr.rank());
+      D -= (D * Q) * Q.transpose();
+    }
+    std::vector<int>& chosen = out[g];
+    if (counts[g] < 0) {
+      chosen = solve::independent_rows_lu(D);
+      counts[g] = static_cast<int>(chosen.size());
+    } else {
+      chosen = solve::leading_rows_lu(D, counts[g]);
+    }
+    std::sort(chosen.begin(), chosen.end());
+    const SpMat Gr = G;  // rows of G as sparse vectors
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = Gr;
+    for (int i : chosen) kept[g].push_back(R.row(i));
+  }
+  return out;
 }
 
 }  // namespace isoflex::system

@@ -29,6 +29,16 @@ IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double th
 // (zero columns hold no pivot and change no entry).
 MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G);
 
+// The rows of several groups chosen together (the AF-BS interfaces' rows, IGA-thesis Alg. 5.1):
+// group after group, its rows projected off the span of the rows kept so far in the groups
+// connected to it through shared columns, then by full-pivot LU of the projection the counts[g]
+// rows of the largest pivots, or (counts[g] < 0) all independent ones, whose number is written back
+// to counts[g]. Groups that share no column are chosen as by themselves; where they do (interfaces
+// meeting at a corner), a row that the kept rows of an earlier group imply is not kept again.
+// Returns per group the chosen rows (indices into its rows), sorted.
+std::vector<std::vector<int>> select_group_rows(
+    const std::vector<Eigen::SparseMatrix<double>>& groups, std::vector<int>& counts);
+
 // The block path alone (tests).
 IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
                                            double threshold = 1e-10);

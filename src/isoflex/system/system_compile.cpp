@@ -978,44 +978,21 @@ void System::select_loop_rows() {
     }
     selected_compliance_.conservativeResize(static_cast<Eigen::Index>(selected_rows_.size()));
     selected_compliance_.tail(C.constraint->constraint_count()).setConstant(c);
-    if (C.constraint->reselected()) {
-      group.rank = static_cast<int>(
-          solve::independent_rows_lu(
-              dense_nonzero_columns(modulo_linear_conditions(jacobian_rows(q0_, rows))))
-              .size());
-      reselected_groups_.push_back(std::move(group));
-    }
+    if (C.constraint->reselected()) reselected_groups_.push_back(std::move(group));
   }
-  // The rows of each reselected group are chosen by themselves (static_equilibrium.cpp). Two
-  // groups on control points they share — AF-BS interfaces crossing at a point where four
-  // patches meet — can depend on each other there; a selection per group then keeps dependent
-  // rows and the Newton matrix is singular (measured: the first correction 1e16 times the
-  // residual). Refused until the selection is joint.
-  for (std::size_t a = 0; a < reselected_groups_.size(); ++a)
-    for (std::size_t b = a + 1; b < reselected_groups_.size(); ++b) {
-      const ConstraintInstance& A =
-          nary_[static_cast<std::size_t>(reselected_groups_[a].constraint)];
-      const ConstraintInstance& B =
-          nary_[static_cast<std::size_t>(reselected_groups_[b].constraint)];
-      const auto& na = A.constraint->nodes();
-      if (std::none_of(B.constraint->nodes().begin(), B.constraint->nodes().end(),
-                       [&](int x) { return std::find(na.begin(), na.end(), x) != na.end(); }))
-        continue;
+  // The groups' counts at the reference, chosen together: interfaces meeting at a corner share
+  // control points, where a row of one may follow from the kept rows of another.
+  if (!reselected_groups_.empty()) {
+    std::vector<SpMat> groups;
+    std::vector<int> counts(reselected_groups_.size(), -1);
+    for (const ReselectedGroup& g : reselected_groups_) {
       std::vector<int> rows;
-      for (const ConstraintInstance* C : {&A, &B})
-        for (int i = 0; i < C->constraint->constraint_count(); ++i)
-          rows.push_back(C->row_offset + i);
-      const MatX D = dense_nonzero_columns(modulo_linear_conditions(jacobian_rows(q0_, rows)));
-      const int joint = static_cast<int>(solve::independent_rows_lu(D).size());
-      const int apart = reselected_groups_[a].rank + reselected_groups_[b].rank;
-      if (joint < apart)
-        fail(B.source, B.name,
-             fmt::format("the strip_constraints rows of '{}' and '{}' depend on each other where "
-                         "the interfaces meet ({} independent together, {} apart): AF-BS at "
-                         "crossing interfaces is not built; use coupling angle or bending_strip "
-                         "there",
-                         A.name, B.name, joint, apart));
+      for (int p : g.positions) rows.push_back(selected_rows_[static_cast<std::size_t>(p)]);
+      groups.push_back(modulo_linear_conditions(jacobian_rows(q0_, rows)));
     }
+    select_group_rows(groups, counts);
+    for (std::size_t g = 0; g < counts.size(); ++g) reselected_groups_[g].rank = counts[g];
+  }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
   // of d the rank test cannot see, so a moving row must be independent.
   for (int r : redundant_rows_) {
