@@ -57,6 +57,11 @@ const elements::PointSpringDamper& spring_element(const system::System& sys, int
       sys.springs()[static_cast<std::size_t>(s)].element_index)]);
 }
 
+// Probe `probe` of sys at x (a configuration q or, material points being linear, a velocity v).
+Vec3 probe_at(const system::System& sys, const VecX& x, int probe) {
+  return sys.probe_point(x, sys.probes()[static_cast<std::size_t>(probe)]);
+}
+
 bool hidden(const std::string& name) {
   return name.rfind(kHidden, 0) == 0;
 }
@@ -234,14 +239,10 @@ void CoSimulation::anchor_mbs_side(double t) {
 }
 
 StepStats CoSimulation::advance() {
-  const auto point = [](const system::System& sys, const State& s, int probe, bool velocity) {
-    const auto& p = sys.probes()[static_cast<std::size_t>(probe)];
-    return sys.probe_point(velocity ? s.v : s.q, p);
-  };
   for (Crossing& c : crossing_) {
-    c.mbs_x0 = point(*mbs_, mbs_state_, c.mbs_probe, false);
-    c.mbs_v0 = point(*mbs_, mbs_state_, c.mbs_probe, true);
-    c.shell_x0 = point(*shell_, shell_state_, c.shell_probe, false);
+    c.mbs_x0 = probe_at(*mbs_, mbs_state_.q, c.mbs_probe);
+    c.mbs_v0 = probe_at(*mbs_, mbs_state_.v, c.mbs_probe);
+    c.shell_x0 = probe_at(*shell_, shell_state_.q, c.shell_probe);
   }
   StepStats out;
   const auto micro = [&](const char* part, auto&& anchor, TimeIntegrator& integ, State& state) {
@@ -260,8 +261,8 @@ StepStats CoSimulation::advance() {
   micro(
       "shell", [&](double t) { anchor_shell_side(t); }, *shell_integ_, shell_state_);
   for (Crossing& c : crossing_) {
-    c.shell_x1 = point(*shell_, shell_state_, c.shell_probe, false);
-    c.shell_v1 = point(*shell_, shell_state_, c.shell_probe, true);
+    c.shell_x1 = probe_at(*shell_, shell_state_.q, c.shell_probe);
+    c.shell_v1 = probe_at(*shell_, shell_state_.v, c.shell_probe);
   }
   micro(
       "multibody", [&](double t) { anchor_mbs_side(t); }, *mbs_integ_, mbs_state_);
@@ -296,17 +297,15 @@ Snapshot CoSimulation::snapshot(const StepStats& st) const {
         out.springs.push_back(s);
   // The crossing springs between their true ends: their energy replaces what each part counts
   // with its anchor.
-  const auto end = [](const system::System& sys, const State& s, int probe) {
-    const auto& p = sys.probes()[static_cast<std::size_t>(probe)];
-    return std::pair{sys.probe_point(s.q, p), sys.probe_point(s.v, p)};
-  };
   for (const Crossing& c : crossing_) {
     const auto& e_mbs = spring_element(*mbs_, c.mbs_spring);
     const auto& e_shell = spring_element(*shell_, c.shell_spring);
     out.potential_energy -= e_mbs.potential(mbs_->stacked(mbs_state_.q, e_mbs.nodes())) +
                             e_shell.potential(shell_->stacked(shell_state_.q, e_shell.nodes()));
-    const auto [xm, vm] = end(*mbs_, mbs_state_, c.mbs_probe);
-    const auto [xs, vs] = end(*shell_, shell_state_, c.shell_probe);
+    const Vec3 xm = probe_at(*mbs_, mbs_state_.q, c.mbs_probe),
+               vm = probe_at(*mbs_, mbs_state_.v, c.mbs_probe);
+    const Vec3 xs = probe_at(*shell_, shell_state_.q, c.shell_probe),
+               vs = probe_at(*shell_, shell_state_.v, c.shell_probe);
     const Vec3 d = c.shell_is_a ? Vec3(xs - xm) : Vec3(xm - xs);
     const Vec3 dv = c.shell_is_a ? Vec3(vs - vm) : Vec3(vm - vs);
     const double z = d.norm(), rate = z > 0.0 ? d.dot(dv) / z : 0.0;

@@ -67,16 +67,12 @@ bool has_follower_loads(const system::System& sys) {
 // rank (geometric stiffness) that the constraints do not have.
 std::vector<bool> dropped_rows(const system::System& sys, const VecX& q) {
   std::vector<bool> out(static_cast<std::size_t>(sys.m_selected()), false);
-  std::vector<SpMat> groups;
   std::vector<int> counts;
   for (const auto& g : sys.reselected_groups()) {
-    std::vector<int> rows;
-    for (int p : g.positions) rows.push_back(sys.selected_rows()[static_cast<std::size_t>(p)]);
-    groups.push_back(sys.modulo_linear_conditions(sys.jacobian_rows(q, rows)));
     counts.push_back(g.rank);
     for (int p : g.positions) out[static_cast<std::size_t>(p)] = true;
   }
-  const auto chosen = system::select_group_rows(groups, counts);
+  const auto chosen = system::select_group_rows(sys.reselected_group_jacobians(q), counts);
   for (std::size_t k = 0; k < chosen.size(); ++k)
     for (int i : chosen[k])
       out[static_cast<std::size_t>(

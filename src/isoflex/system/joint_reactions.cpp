@@ -9,6 +9,15 @@ namespace isoflex::system {
 
 namespace {
 
+// The multipliers of rows offset … offset + m − 1 (all-rows layout) from the selected ones'
+// (position: all-row → selected index, −1 for a row not selected, whose λ is 0).
+VecX rows_multipliers(const VecX& lambda, const std::vector<int>& position, int offset, int m) {
+  VecX lam = VecX::Zero(m);
+  for (int i = 0; i < m; ++i)
+    if (const int p = position[static_cast<std::size_t>(offset + i)]; p >= 0) lam(i) = lambda(p);
+  return lam;
+}
+
 // A joint with a director or point node (director-shell nodes, KL control points): the net force
 // and moment of its rows' forces on body_b's node, about that node's position φ (the joint point:
 // such joints join at nodes), global components in both columns (a node without a frame).
@@ -16,10 +25,7 @@ JointReaction node_reaction(const System& sys, const JointInstance& J, const Vec
                             const VecX& lambda, const std::vector<int>& position) {
   const auto& nodes = J.rows->nodes();
   const int m = J.rows->constraint_count();
-  VecX lam = VecX::Zero(m);
-  for (int i = 0; i < m; ++i)
-    if (const int p = position[static_cast<std::size_t>(J.row_offset + i)]; p >= 0)
-      lam(i) = lambda(p);
+  const VecX lam = rows_multipliers(lambda, position, J.row_offset, m);
   const VecX f = -(J.rows->jacobian(sys.stacked(q, nodes)).transpose() * lam);
   // body_b's node (the child unless reversed); the ground as body_b: the other node, negated.
   const int b = J.reversed ? J.parent : J.child;
@@ -53,10 +59,7 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     }
     const auto qa = sys.node_q(q, J.parent), qb = sys.node_q(q, J.child);
     const int m = J.frame->constraint_count();
-    VecX lam = VecX::Zero(m);
-    for (int i = 0; i < m; ++i)
-      if (const int p = position[static_cast<std::size_t>(J.row_offset + i)]; p >= 0)
-        lam(i) = lambda(p);
+    const VecX lam = rows_multipliers(lambda, position, J.row_offset, m);
     const VecX f = -(J.frame->jacobian(qa, qb).transpose() * lam);  // parent 12, child 12
     // body_b is the child unless the tree edge was reversed; the ground as body_b: the reaction
     // on the other node, negated (at the same joint point).
@@ -90,10 +93,7 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     const ConstraintInstance& c = sys.nary_constraints()[static_cast<std::size_t>(s.constraint)];
     const auto& nodes = c.constraint->nodes();
     const int m = c.constraint->constraint_count();
-    VecX lam = VecX::Zero(m);
-    for (int i = 0; i < m; ++i)
-      if (const int p = position[static_cast<std::size_t>(c.row_offset + i)]; p >= 0)
-        lam(i) = lambda(p);
+    const VecX lam = rows_multipliers(lambda, position, c.row_offset, m);
     const VecX f = -(c.constraint->jacobian(sys.stacked(q, nodes)).transpose() * lam);
     Vec3 p = Vec3::Zero();
     for (const auto& [node, w] : s.point) p += w * Vec3(sys.node_q(q, node).head<3>());

@@ -103,17 +103,6 @@ IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double th
           static_cast<int>(solve::independent_rows_qr(D, threshold).size())};
 }
 
-MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G) {
-  std::vector<int> columns;
-  for (int c = 0; c < G.outerSize(); ++c)
-    if (Eigen::SparseMatrix<double>::InnerIterator(G, c)) columns.push_back(c);
-  MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(columns.size()));
-  for (std::size_t k = 0; k < columns.size(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(G, columns[k]); it; ++it)
-      D(it.row(), static_cast<Eigen::Index>(k)) = it.value();
-  return D;
-}
-
 std::vector<std::vector<int>> select_group_rows(
     const std::vector<Eigen::SparseMatrix<double>>& groups, std::vector<int>& counts) {
   using SpMat = Eigen::SparseMatrix<double>;
@@ -176,8 +165,7 @@ std::vector<std::vector<int>> select_group_rows(
       chosen = solve::leading_rows_lu(D, counts[g]);
     }
     std::sort(chosen.begin(), chosen.end());
-    const SpMat Gr = G;  // rows of G as sparse vectors
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = Gr;
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = G;  // its rows as sparse vectors
     for (int i : chosen) kept[g].push_back(R.row(i));
   }
   return out;

@@ -24,11 +24,6 @@ struct IndependentRows {
 constexpr double kDenseEntries = 4e6;  // 32 MB as a dense matrix
 
 IndependentRows independent_rows(const Eigen::SparseMatrix<double>& G, double threshold = 1e-10);
-// G as a dense matrix of its nonzero columns only (in order): a few rows over a large system
-// (an interface's rows) stay small, and a full-pivot LU of it chooses the same rows as of all of G
-// (zero columns hold no pivot and change no entry).
-MatX dense_nonzero_columns(const Eigen::SparseMatrix<double>& G);
-
 // The rows of several groups chosen together (the AF-BS interfaces' rows, IGA-thesis Alg. 5.1):
 // group after group, its rows projected off the span of the rows kept so far in the groups
 // connected to it through shared columns, then by full-pivot LU of the projection the counts[g]

@@ -201,6 +201,9 @@ class System {
   // G with the eliminated coordinates' columns zeroed and projected off the rows of the linear
   // conditions (the row selection of a static analysis, at compile and at every iterate).
   SpMat modulo_linear_conditions(const SpMat& G) const;
+  // Per reselected group, the Jacobian of its rows at q modulo the linear conditions (what
+  // system::select_group_rows chooses from).
+  std::vector<SpMat> reselected_group_jacobians(const VecX& q) const;
   const std::vector<int>& redundant_rows() const { return redundant_rows_; }
   const std::vector<JointInstance>& joints() const { return joints_; }
   const std::vector<ConstraintInstance>& nary_constraints() const { return nary_; }

@@ -931,6 +931,16 @@ void System::check_assembled(const Build& build) const {
 // independence is modulo those: G_cut with the eliminated columns removed and projected off
 // the row space of C, so that a row a support already holds (a coupling row on a clamped edge,
 // IGA-thesis §6.4.2.2) is dropped instead of making the static Newton matrix singular.
+std::vector<SpMat> System::reselected_group_jacobians(const VecX& q) const {
+  std::vector<SpMat> out;
+  for (const ReselectedGroup& g : reselected_groups_) {
+    std::vector<int> rows;
+    for (int p : g.positions) rows.push_back(selected_rows_[static_cast<std::size_t>(p)]);
+    out.push_back(modulo_linear_conditions(jacobian_rows(q, rows)));
+  }
+  return out;
+}
+
 void System::select_loop_rows() {
   std::vector<int> cut_all;
   for (const auto& J : joints_)
@@ -983,14 +993,8 @@ void System::select_loop_rows() {
   // The groups' counts at the reference, chosen together: interfaces meeting at a corner share
   // control points, where a row of one may follow from the kept rows of another.
   if (!reselected_groups_.empty()) {
-    std::vector<SpMat> groups;
     std::vector<int> counts(reselected_groups_.size(), -1);
-    for (const ReselectedGroup& g : reselected_groups_) {
-      std::vector<int> rows;
-      for (int p : g.positions) rows.push_back(selected_rows_[static_cast<std::size_t>(p)]);
-      groups.push_back(modulo_linear_conditions(jacobian_rows(q0_, rows)));
-    }
-    select_group_rows(groups, counts);
+    select_group_rows(reselected_group_jacobians(q0_), counts);
     for (std::size_t g = 0; g < counts.size(); ++g) reselected_groups_[g].rank = counts[g];
   }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property

@@ -60,8 +60,8 @@ void System::add_springs(const model::Model& m, const NodeFinder& find) {
       auto element =
           std::make_unique<elements::PointSpringDamper>(nodes, n, maps[0], maps[1], law, q0e);
       viscous_ = viscous_ || element->viscous();
-      springs_.push_back({S.name, static_cast<int>(elements_.size()), -1,
-                          !ends[0] ? 0 : (!ends[1] ? 1 : -1)});
+      springs_.push_back(
+          {S.name, static_cast<int>(elements_.size()), -1, !ends[0] ? 0 : (!ends[1] ? 1 : -1)});
       elements_.push_back(std::move(element));
       if (!S.actuator.empty()) {
         springs_.back().actuator_load = static_cast<int>(loads_.size());
