@@ -4,10 +4,13 @@
 // same elements. Per variant: the compile time (System::compile: joining, couplings, row
 // selection), the unknowns, and per Newton iteration of a nonlinear static solve (one load step)
 // the assembly time and the linear-solve time (StaticNewtonSolver's LoadStepStats), and their
-// ratio to the single patch's per unknown.
+// ratio to the single patch's per unknown; the GMRES iterations and LU fallbacks of the
+// augmented-Lagrangian saddle-point solver (AF-BS, docs/theory/solvers.md), and per load step the
+// rest of its wall time (AF-BS: the row selection at its start).
 //
 //   kl_many_patch_bench [--grid 5,4] [--elements 180] [--degree 3]
 //                       [--couplings bending_strip,angle] [--threads 1]
+//                       [--saddle-point auto|lu|augmented_lagrangian]
 //
 // --elements: elements per direction of the whole plate (each patch gets elements/PU × /PV).
 #include <fmt/format.h>
@@ -22,6 +25,7 @@
 #include "bench_cli.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
 #include "isoflex/io/model_reader.hpp"
+#include "support/kl_plate_grid.hpp"
 
 namespace {
 
@@ -31,13 +35,15 @@ using Clock = std::chrono::steady_clock;
 struct Options {
   int pu = 5, pv = 4, elements = 180, degree = 3, threads = 1;
   std::vector<std::string> couplings{"bending_strip", "angle"};
+  std::string saddle_point = "auto";  // solver.saddle_point_solver
 };
 
 [[noreturn]] void usage(const std::string& msg) {
   std::fprintf(stderr,
                "kl_many_patch_bench: %s\n"
                "usage: kl_many_patch_bench [--grid 5,4] [--elements 180] [--degree 3]\n"
-               "                           [--couplings bending_strip,angle] [--threads 1]\n",
+               "                           [--couplings bending_strip,angle] [--threads 1]\n"
+               "                           [--saddle-point auto|lu|augmented_lagrangian]\n",
                msg.c_str());
   std::exit(2);
 }
@@ -59,6 +65,8 @@ Options parse(int argc, char** argv) {
       o.threads = args.count("threads");
     } else if (args.is("--couplings")) {
       o.couplings = bench::split(args.value());
+    } else if (args.is("--saddle-point")) {
+      o.saddle_point = args.value();
     } else {
       args.unknown();
     }
@@ -71,31 +79,16 @@ Options parse(int argc, char** argv) {
 
 // The plate as pu × pv patches (pu = pv = 1: one patch) in the model-file language.
 std::string plate(const Options& o, int pu, int pv, const std::string& coupling) {
-  std::string s = fmt::format(
-      "name: many_patch\nsolver: {{analysis: static, dt: 1, t_end: 1, max_iterations: 30}}\n"
-      "surfaces:\n");
-  const double wu = 1.0 / pu, wv = 1.0 / pv;
-  const int eu = o.elements / pu, ev = o.elements / pv;
-  std::string shells = "kl_shells:\n", supports = "kl_supports:\n", loads = "kl_loads:\n";
-  for (int j = 0; j < pv; ++j)
-    for (int i = 0; i < pu; ++i) {
-      const std::string n = fmt::format("p{}_{}", i, j);
-      s += fmt::format(
-          "  - {{name: {}, builtin: {{type: rectangle, size: [{}, {}], corner: [{}, {}, 0]}}, "
-          "refine: {{elevate: [{}, {}], knots_per_span: [{}, {}]}}}}\n",
-          n, wu, wv, i * wu, j * wv, o.degree - 1, o.degree - 1, eu - 1, ev - 1);
-      shells += fmt::format(
-          "  - {{name: {}, surface: {}, material: {{E: 1.0e7, nu: 0.3, thickness: 0.01}}}}\n", n,
-          n);
-      if (i == 0) supports += fmt::format("  - {{shell: {}, edge: u0, fixed: all}}\n", n);
-      if (i == pu - 1) supports += fmt::format("  - {{shell: {}, edge: u1, fixed: all}}\n", n);
-      if (j == 0) supports += fmt::format("  - {{shell: {}, edge: v0, fixed: all}}\n", n);
-      if (j == pv - 1) supports += fmt::format("  - {{shell: {}, edge: v1, fixed: all}}\n", n);
-      loads += fmt::format("  - {{shell: {}, area_force: [0, 0, \"-1.0*t\"]}}\n", n);
-    }
-  s += shells + supports + loads;
-  if (pu * pv > 1) s += fmt::format("kl_interfaces: {{coupling: {}, beta: 1000}}\n", coupling);
-  return s;
+  test::PlateGrid g;
+  g.pu = pu;
+  g.pv = pv;
+  g.elements = o.elements;
+  g.degree = o.degree;
+  g.coupling = coupling;
+  g.interface_keys = ", beta: 1000";
+  g.solver = "{analysis: static, dt: 1, t_end: 1, max_iterations: 30, saddle_point_solver: " +
+             o.saddle_point + "}";
+  return test::plate_grid_yaml(g);
 }
 
 double seconds(Clock::duration d) {
@@ -104,7 +97,8 @@ double seconds(Clock::duration d) {
 
 struct Result {
   double compile = 0.0, assembly = 0.0, solve = 0.0;  // seconds; assembly, solve per iteration
-  int unknowns = 0, iterations = 0;
+  double other = 0.0;  // per load step: the rest of its wall time (the row selection of AF-BS)
+  int unknowns = 0, iterations = 0, krylov = 0, fallbacks = 0;
 };
 
 Result run(const Options& o, int pu, int pv, const std::string& coupling) {
@@ -121,10 +115,14 @@ Result run(const Options& o, int pu, int pv, const std::string& coupling) {
     r.iterations += st.iterations;
     r.assembly += st.assembly_seconds;
     r.solve += st.solve_seconds;
+    r.other += st.wall_seconds - st.assembly_seconds - st.solve_seconds;
+    r.krylov += st.krylov_iterations;
+    r.fallbacks += st.saddle_point_fallbacks;
   }
   // Evaluations = iterations + 1 (the last residual); solves = iterations.
   r.assembly /= r.iterations + 1;
   r.solve /= r.iterations;
+  r.other /= static_cast<double>(res.steps.size());
   return r;
 }
 
@@ -135,16 +133,18 @@ int main(int argc, char** argv) {
   try {
     std::printf(
         "variant,patches,unknowns,compile_s,newton_iterations,assembly_s_per_iteration,"
-        "solve_s_per_iteration,iteration_s_per_unknown_vs_one_patch\n");
+        "solve_s_per_iteration,iteration_s_per_unknown_vs_one_patch,krylov_iterations,"
+        "saddle_point_fallbacks,other_s_per_load_step\n");
     const Result one = run(o, 1, 1, "");
     const auto per_unknown = [](const Result& r) { return (r.assembly + r.solve) / r.unknowns; };
-    std::printf("one_patch,1,%d,%.3f,%d,%.4f,%.4f,1.000\n", one.unknowns, one.compile,
-                one.iterations, one.assembly, one.solve);
+    std::printf("one_patch,1,%d,%.3f,%d,%.4f,%.4f,1.000,0,0,%.3f\n", one.unknowns, one.compile,
+                one.iterations, one.assembly, one.solve, one.other);
     std::fflush(stdout);
     for (const std::string& c : o.couplings) {
       const Result r = run(o, o.pu, o.pv, c);
-      std::printf("%s,%d,%d,%.3f,%d,%.4f,%.4f,%.3f\n", c.c_str(), o.pu * o.pv, r.unknowns,
-                  r.compile, r.iterations, r.assembly, r.solve, per_unknown(r) / per_unknown(one));
+      std::printf("%s,%d,%d,%.3f,%d,%.4f,%.4f,%.3f,%d,%d,%.3f\n", c.c_str(), o.pu * o.pv,
+                  r.unknowns, r.compile, r.iterations, r.assembly, r.solve,
+                  per_unknown(r) / per_unknown(one), r.krylov, r.fallbacks, r.other);
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 
 #include "support/cli.hpp"
 #include "support/files.hpp"
+#include "support/kl_plate_grid.hpp"
 
 namespace fs = std::filesystem;
 
@@ -212,4 +213,31 @@ TEST(KLCli, CheckCountsNodeAndConstraintKindsOfAPatchOnABody) {
   EXPECT_NE(r.out.find("unknowns         constrained 213, nullspace 177, reparametrized 141"),
             std::string::npos)
       << r.out;
+}
+
+// summary.json counts the augmented Lagrangian's work (docs/theory/solvers.md) where it was
+// tried, and has no such keys where the saddle point went to the LU.
+TEST(KLCli, SummaryCountsTheSaddlePointSolvesOfTheAugmentedLagrangian) {
+  const fs::path d = temp_dir("saddle_point");
+  fs::create_directories(d);
+  for (const std::string solver : {"augmented_lagrangian", "lu"}) {
+    isoflex::test::PlateGrid g;
+    g.pu = g.pv = 3;
+    g.coupling = "strip_constraints";
+    g.solver = "{analysis: static, dt: 1, t_end: 1, saddle_point_solver: " + solver + "}";
+    const fs::path m = d / (solver + ".yaml");
+    std::ofstream(m) << isoflex::test::plate_grid_yaml(g);
+    const Result r = run("run " + m.string() + " -o " + (d / solver).string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::string s = read(d / solver / "summary.json");
+    if (solver == "lu") {
+      EXPECT_EQ(s.find("krylov_iterations_total"), std::string::npos) << s;
+      continue;
+    }
+    EXPECT_NE(s.find("\"saddle_point_fallbacks\": 0,"), std::string::npos) << s;
+    const auto k = s.find("\"krylov_iterations_total\": ");
+    ASSERT_NE(k, std::string::npos) << s;
+    EXPECT_GT(std::stoi(s.substr(k + 27)), 0) << s;  // measured 34
+  }
+  fs::remove_all(d);
 }

@@ -316,7 +316,8 @@ TEST(ModelReader, UnknownKey) {
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, scaling, dt, t_end, residual_tolerance, increment_tolerance, max_iterations, "
-      "max_subdivisions, linear, initial_equilibrium, path_following, cosimulation)");
+      "max_subdivisions, linear, initial_equilibrium, path_following, cosimulation, "
+      "saddle_point_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -476,6 +477,21 @@ TEST(ModelReader, SolverAnalysis) {
       model::Analysis::dynamic);
   EXPECT_EQ(error_of(with_bodies({"solver:", "  analysis: transient"})),
             "m.yaml:7: solver.analysis: unknown analysis \"transient\" (valid: static, dynamic)");
+}
+
+// The solver of static saddle-point systems (integrate/static_newton.hpp SaddlePointMethod).
+TEST(ModelReader, SolverSaddlePointSolver) {
+  const auto read = [](const std::string& line) {
+    return read_model_string(with_bodies({line}), "m.yaml").solver.saddle_point_solver;
+  };
+  EXPECT_EQ(read("joints:"), model::SaddlePointSolver::automatic);
+  EXPECT_EQ(read("solver: {saddle_point_solver: auto}"), model::SaddlePointSolver::automatic);
+  EXPECT_EQ(read("solver: {saddle_point_solver: lu}"), model::SaddlePointSolver::lu);
+  EXPECT_EQ(read("solver: {saddle_point_solver: augmented_lagrangian}"),
+            model::SaddlePointSolver::augmented_lagrangian);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  saddle_point_solver: minres"})),
+            "m.yaml:7: solver.saddle_point_solver: unknown solver \"minres\" (valid: auto, lu, "
+            "augmented_lagrangian)");
 }
 
 // The time integrator (integrate/time_integrator.hpp) and its keys.

@@ -16,6 +16,7 @@
 #include "isoflex/system/row_selection.hpp"
 #include "isoflex/system/system.hpp"
 #include "support/finite_difference.hpp"
+#include "support/kl_plate_grid.hpp"
 
 using namespace isoflex;
 
@@ -80,29 +81,11 @@ TEST(RowSelection, BlocksGiveTheWholeMatrixSelection) {
 // and gives AF-D's deflection (both hold the flat interfaces' slopes) and the one patch's.
 TEST(RowSelection, StripConstraintsAtInnerCornersAreChosenTogether) {
   const auto plate = [](int pu, const std::string& coupling) {
-    const double w = 1.0 / pu;
-    std::string s = "solver: {analysis: static, dt: 1, t_end: 1}\nsurfaces:\n";
-    std::string shells = "kl_shells:\n", supports = "kl_supports:\n", loads = "kl_loads:\n";
-    for (int j = 0; j < pu; ++j)
-      for (int i = 0; i < pu; ++i) {
-        const std::string n = "p" + std::to_string(i) + std::to_string(j);
-        s += "  - {name: " + n + ", builtin: {type: rectangle, size: [" + std::to_string(w) + ", " +
-             std::to_string(w) + "], corner: [" + std::to_string(w * i) + ", " +
-             std::to_string(w * j) + ", 0]}, refine: {elevate: [1, 1], knots_per_span: [" +
-             std::to_string(6 / pu - 1) + ", " + std::to_string(6 / pu - 1) + "]}}\n";
-        shells += "  - {name: " + n + ", surface: " + n +
-                  ", material: {E: 1.0e7, nu: 0.3, thickness: 0.01}}\n";
-        if (i == 0) supports += "  - {shell: " + n + ", edge: u0, fixed: all}\n";
-        if (i == pu - 1) supports += "  - {shell: " + n + ", edge: u1, fixed: all}\n";
-        if (j == 0) supports += "  - {shell: " + n + ", edge: v0, fixed: all}\n";
-        if (j == pu - 1) supports += "  - {shell: " + n + ", edge: v1, fixed: all}\n";
-        loads += "  - {shell: " + n + ", area_force: [0, 0, \"-1.0*t\"]}\n";
-      }
-    const std::string centre = pu == 1 ? "p00" : "p11";
-    s += shells + supports + loads + "probes:\n  - {name: centre, shell: " + centre +
-         ", point: [0.5, 0.5, 0]}\n";
-    if (pu > 1) s += "kl_interfaces: {coupling: " + coupling + "}\n";
-    return s;
+    test::PlateGrid g;
+    g.pu = g.pv = pu;
+    g.coupling = coupling;
+    g.centre_probe = true;
+    return test::plate_grid_yaml(g);
   };
   const auto centre = [&](int pu, const std::string& coupling) {
     const model::Model m = io::read_model_string(plate(pu, coupling), "m.yaml");

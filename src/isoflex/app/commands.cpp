@@ -590,6 +590,12 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
             state.t = st.t;
             state.step = st.step;
             path = st.path;
+            if (st.krylov_iterations > 0 || st.saddle_point_fallbacks > 0) {
+              sum.krylov_iterations_total =
+                  sum.krylov_iterations_total.value_or(0) + st.krylov_iterations;
+              sum.saddle_point_fallbacks =
+                  sum.saddle_point_fallbacks.value_or(0) + st.saddle_point_fallbacks;
+            }
             doing = fmt::format("while recording load step {}", sum.steps + 1);
             record({st.iterations, st.residual, st.cuts + 1});
             doing = fmt::format("in load step {} (assembling and factorizing {} unknowns)",

@@ -23,6 +23,10 @@ StaticSettings static_settings(const model::Solver& s) {
   out.max_iterations = s.max_iterations;
   out.residual_tolerance = s.residual_tolerance;
   out.increment_tolerance = s.increment_tolerance;
+  out.saddle_point = s.saddle_point_solver == model::SaddlePointSolver::lu ? SaddlePointMethod::lu
+                     : s.saddle_point_solver == model::SaddlePointSolver::augmented_lagrangian
+                         ? SaddlePointMethod::augmented_lagrangian
+                         : SaddlePointMethod::automatic;
   const model::PathFollowing& f = s.path;
   out.path.control = f.method == model::PathMethod::arc_length     ? PathControl::arc_length
                      : f.method == model::PathMethod::displacement ? PathControl::displacement
@@ -91,6 +95,38 @@ struct RowSelection {
   bool pinned = false;
 };
 
+// [A Gᵀ; G D] in compressed columns, written column by column (A and G compressed: no sort),
+// D's diagonal entries where on_diagonal (the pattern a triplet assembly of the same entries
+// gives, so that the factorizations see the same matrix).
+void bordered_matrix(const SpMat& A, const SpMat& G, const VecX& diagonal,
+                     const std::vector<bool>& on_diagonal, SpMat& out) {
+  const int n = static_cast<int>(A.rows()), m = static_cast<int>(G.rows());
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> Gr = G;
+  out.resize(n + m, n + m);
+  out.resizeNonZeros(A.nonZeros() + 2 * G.nonZeros() +
+                     std::count(on_diagonal.begin(), on_diagonal.end(), true));
+  int* outer = out.outerIndexPtr();
+  int* inner = out.innerIndexPtr();
+  double* value = out.valuePtr();
+  int k = 0;
+  const auto put = [&](int row, double v) {
+    inner[k] = row;
+    value[k++] = v;
+  };
+  for (int j = 0; j < n; ++j) {
+    outer[j] = k;
+    for (SpMat::InnerIterator it(A, j); it; ++it) put(static_cast<int>(it.row()), it.value());
+    for (SpMat::InnerIterator it(G, j); it; ++it) put(n + static_cast<int>(it.row()), it.value());
+  }
+  for (int i = 0; i < m; ++i) {
+    outer[n + i] = k;
+    for (decltype(Gr)::InnerIterator it(Gr, i); it; ++it)
+      put(static_cast<int>(it.col()), it.value());
+    if (on_diagonal[static_cast<std::size_t>(i)]) put(n + i, diagonal(i));
+  }
+  outer[n + m] = k;
+}
+
 // R(x, t) of the header and, if with_tangent, J in out.K; out.load_norm the force scale. The
 // reselected rows not kept (RowSelection) get the equation λᵢ = 0 instead, their forces and
 // Hessians left out.
@@ -129,21 +165,14 @@ void evaluate(const system::System& sys, RowSelection& selection, const VecX& x,
   out.load_norm = std::max(load_norm, reactions.lpNorm<Eigen::Infinity>());
   if (!with_tangent) return;
   const SpMat A = K + sys.constraint_hessian(q, lambda_kept);
-  system::Triplets tr;
-  tr.reserve(A.nonZeros() + 2 * G.nonZeros());
-  for (int c = 0; c < A.outerSize(); ++c)
-    for (SpMat::InnerIterator it(A, c); it; ++it) tr.emplace_back(it.row(), it.col(), it.value());
-  for (int c = 0; c < G.outerSize(); ++c)
-    for (SpMat::InnerIterator it(G, c); it; ++it) {
-      tr.emplace_back(n + it.row(), it.col(), it.value());
-      tr.emplace_back(it.col(), n + it.row(), it.value());
-    }
+  VecX diagonal = VecX::Zero(m);  // the multiplier block: −compliance, 1 for a dropped row
+  std::vector<bool> on_diagonal(static_cast<std::size_t>(m), false);
   for (int i = 0; i < m; ++i) {
-    if (compliance(i) != 0.0) tr.emplace_back(n + i, n + i, -compliance(i));
-    if (dropped[static_cast<std::size_t>(i)]) tr.emplace_back(n + i, n + i, 1.0);
+    const bool drop = dropped[static_cast<std::size_t>(i)];
+    on_diagonal[static_cast<std::size_t>(i)] = compliance(i) != 0.0 || drop;
+    diagonal(i) = -compliance(i) + (drop ? 1.0 : 0.0);
   }
-  out.K.resize(n + m, n + m);
-  out.K.setFromTriplets(tr.begin(), tr.end());
+  bordered_matrix(A, G, diagonal, on_diagonal, out.K);
 }
 
 }  // namespace
@@ -157,7 +186,7 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   pb.reference = VecX::Zero(n + m);
   pb.reference.head(n) = sys.q0();
   pb.configuration_size = n;
-  pb.symmetric = m == 0 && !follower;
+  pb.symmetric = !follower;
   pb.linear = linear && !(patches_only && follower);
   const system::System* S = &sys;
   auto selection = std::make_shared<RowSelection>();

@@ -13,6 +13,7 @@
 #include "isoflex/integrate/arc_length.hpp"
 #include "isoflex/integrate/newton_loop.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/solve/saddle_point.hpp"
 
 namespace isoflex::integrate {
 
@@ -73,6 +74,8 @@ struct StaticNewtonSolver::Impl {
 
   solve::FixedPatternCholesky cholesky;
   solve::FixedPatternLU lu;
+  solve::SaddlePointSolver saddle;
+  LoadStepStats* stats = nullptr;  // the step whose solves are counted (saddle-point solver)
   int analyses_before = 0;
 
   ResidualEvaluation ev;
@@ -198,17 +201,45 @@ struct StaticNewtonSolver::Impl {
       else
         return solver.solve(M, b);
     };
-    if (problem.symmetric && m == 0) {
+    const bool multipliers = m > 0 || nf_configuration < nf;
+    if (problem.symmetric && !multipliers) {
       try {
         return with(cholesky);
       } catch (const std::runtime_error&) {
         // Not positive definite (past a limit point, or a singular direction): pivoted LU.
       }
     }
+    if (problem.symmetric && multipliers && use_saddle_point_solver(M)) {
+      try {
+        saddle.factorize(M, nf_configuration);
+        Rhs x(b.rows(), b.cols());
+        for (Eigen::Index c = 0; c < b.cols(); ++c) {
+          x.col(c) = saddle.solve(b.col(c));
+          if (stats) stats->krylov_iterations += saddle.last().iterations;
+        }
+        return x;
+      } catch (const std::runtime_error&) {
+        // Â not positive definite (past a limit point) or GMRES short of its tolerance.
+        if (stats) ++stats->saddle_point_fallbacks;
+      }
+    }
     return with(lu);
   }
 
+  bool use_saddle_point_solver(const SpMat& M) const {
+    switch (settings.saddle_point) {
+      case SaddlePointMethod::lu:
+        return false;
+      case SaddlePointMethod::augmented_lagrangian:
+        return true;
+      case SaddlePointMethod::automatic:
+        break;
+    }
+    return M.rows() >= kIterativeSaddlePointUnknowns;
+  }
+
   void evaluate(const VecX& x, double t, bool with_tangent, LoadStepStats& st) {
+    stats = &st;  // every solve follows an evaluation of its step
     const auto t0 = Clock::now();
     problem.evaluate(x, t, with_tangent, ev);
     if (ev.r.size() != n)
@@ -413,15 +444,20 @@ struct StaticNewtonSolver::Impl {
   // The times of failed attempts, added to the step that is accepted next.
   struct Carried {
     double wall = 0.0, assembly = 0.0, solve = 0.0;
+    int krylov = 0, fallbacks = 0;
     void add(const LoadStepStats& st) {
       wall += st.wall_seconds;
       assembly += st.assembly_seconds;
       solve += st.solve_seconds;
+      krylov += st.krylov_iterations;
+      fallbacks += st.saddle_point_fallbacks;
     }
     void take(LoadStepStats& st) {
       st.wall_seconds += wall;
       st.assembly_seconds += assembly;
       st.solve_seconds += solve;
+      st.krylov_iterations += krylov;
+      st.saddle_point_fallbacks += fallbacks;
       *this = {};
     }
   };
@@ -555,7 +591,7 @@ StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& obser
   double t = 0.0, dt = dt_nominal;
   int cuts = 0, easy = 0;
   Carried carried;
-  const int analyses0 = cholesky.analyses() + lu.analyses();
+  const int analyses0 = cholesky.analyses() + lu.analyses() + saddle.analyses();
   while (t < s.t_end) {
     double dt_try = std::min(dt, s.t_end - t);
     if (dt < dt_nominal) {
@@ -633,7 +669,7 @@ StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& obser
   }
   res.x = std::move(x);
   res.mu = std::move(mu);
-  res.analyses = cholesky.analyses() + lu.analyses() - analyses0;
+  res.analyses = cholesky.analyses() + lu.analyses() + saddle.analyses() - analyses0;
   return res;
 }
 
@@ -664,7 +700,7 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
   double arc = 0.0;
   int cuts = 0;
   Carried carried;
-  const int analyses0 = cholesky.analyses() + lu.analyses();
+  const int analyses0 = cholesky.analyses() + lu.analyses() + saddle.analyses();
   // An accepted step: its increment is the next secant, its length adds to the path.
   const auto accept = [&](VecX& x_new, VecX& mu_new, double lambda_new, const NewtonOutcome& out,
                           LoadStepStats& st) {
@@ -778,7 +814,7 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
   }
   res.x = std::move(x);
   res.mu = std::move(mu);
-  res.analyses = cholesky.analyses() + lu.analyses() - analyses0;
+  res.analyses = cholesky.analyses() + lu.analyses() + saddle.analyses() - analyses0;
   return res;
 }
 

@@ -75,7 +75,8 @@ struct StaticProblem {
   // Writes r (and K if with_tangent) into out; out is reused between calls (keep its storage).
   std::function<void(const VecX& x, double t, bool with_tangent, ResidualEvaluation& out)> evaluate;
   // K symmetric for every x, t (conservative problem): the reduced matrix is then factorized by
-  // sparse LDLᵀ, otherwise (follower loads) and for the saddle-point system by sparse LU.
+  // sparse Cholesky, a saddle-point one (multiplier rows) by the method of
+  // StaticSettings::saddle_point; otherwise (follower loads) by sparse LU.
   bool symmetric = true;
   // r is affine in x (linear kinematics, dead loads): one solve per load step, no iteration.
   bool linear = false;
@@ -106,8 +107,16 @@ struct PathSettings {
   int max_steps = 1000;
 };
 
+// The solver of Newton matrices with multiplier rows (a symmetric saddle point): a sparse LU of
+// the whole matrix, or the augmented Lagrangian with a Cholesky factorization and GMRES
+// (solve/saddle_point.hpp); automatic: the latter from kIterativeSaddlePointUnknowns unknowns
+// on, the LU below (small systems solve as before, to the last digit).
+enum class SaddlePointMethod { automatic, lu, augmented_lagrangian };
+inline constexpr int kIterativeSaddlePointUnknowns = 20000;
+
 struct StaticSettings {
   double t_end = 1.0;
+  SaddlePointMethod saddle_point = SaddlePointMethod::automatic;
   int steps = 1;  // nominal number of load increments (Δt = t_end / steps)
   bool adaptive = false;
   int max_cuts = 10;   // the increment is at least the nominal one / 2^max_cuts (adaptive)
@@ -136,6 +145,10 @@ struct LoadStepStats {
   double assembly_seconds = 0.0;         // residual/tangent evaluation and reduction
   double solve_seconds = 0.0;            // linear solves (factorization included)
   double wall_seconds = 0.0;             // the whole step, failed attempts included
+  // Saddle-point solves by the augmented Lagrangian: GMRES iterations in all, and solves that
+  // fell back to the sparse LU (Â not positive definite, GMRES short of its tolerance).
+  int krylov_iterations = 0;
+  int saddle_point_fallbacks = 0;
 };
 
 struct StaticResult {

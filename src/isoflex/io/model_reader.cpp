@@ -193,10 +193,11 @@ class Reader : YamlFields {
   void read_solver(const YAML::Node& n, model::Solver& s) const {
     if (n.IsNull()) return;
     expect_map(n, "solver");
-    check_keys(n, "solver",
-               {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
-                "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
-                "linear", "initial_equilibrium", "path_following", "cosimulation"});
+    check_keys(
+        n, "solver",
+        {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
+         "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
+         "linear", "initial_equilibrium", "path_following", "cosimulation", "saddle_point_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -251,6 +252,16 @@ class Reader : YamlFields {
              "finds the equilibrium itself)");
       if (s.initial_equilibrium > 10000)
         fail(v, "solver.initial_equilibrium", "at most 10000 load steps");
+    }
+    if (const auto v = n["saddle_point_solver"]) {
+      const std::string name = string(v, "solver.saddle_point_solver");
+      if (name == "lu")
+        s.saddle_point_solver = model::SaddlePointSolver::lu;
+      else if (name == "augmented_lagrangian")
+        s.saddle_point_solver = model::SaddlePointSolver::augmented_lagrangian;
+      else if (name != "auto")
+        fail(v, "solver.saddle_point_solver",
+             "unknown solver \"" + name + "\" (valid: auto, lu, augmented_lagrangian)");
     }
     if (const auto v = n["path_following"]) read_path_following(v, s);
     if (const auto v = n["cosimulation"]) read_cosimulation(v, s);

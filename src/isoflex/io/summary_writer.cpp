@@ -102,6 +102,8 @@ std::string summary_json(const RunSummary& s) {
   if (s.external_work) real("external_work", *s.external_work);
   if (s.initial_equilibrium_load_steps)
     integer("initial_equilibrium_load_steps", *s.initial_equilibrium_load_steps);
+  if (s.krylov_iterations_total) integer("krylov_iterations_total", *s.krylov_iterations_total);
+  if (s.saddle_point_fallbacks) integer("saddle_point_fallbacks", *s.saddle_point_fallbacks);
 
   key("probes");
   if (s.probes.empty()) {

@@ -35,6 +35,11 @@ struct RunSummary {
   std::optional<double> dissipated_energy;
   std::optional<double> external_work;  // a dynamic run with loads: their work since t = 0
   std::optional<int> initial_equilibrium_load_steps;
+  // A static run whose saddle-point systems went to the augmented Lagrangian
+  // (solver.saddle_point_solver): its GMRES iterations in all, and the solves that fell back to
+  // the sparse LU.
+  std::optional<int> krylov_iterations_total;
+  std::optional<int> saddle_point_fallbacks;
   std::vector<integrate::ProbeValue> probes;
   // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"
   // (SIGINT, SIGTERM): README "Exit codes"

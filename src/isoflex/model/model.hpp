@@ -425,6 +425,10 @@ struct CoSimulation {
   int line = 0;  // of the cosimulation entry in the model file
 };
 
+// Static solves: how Newton matrices with multiplier rows are solved (integrate/static_newton.hpp
+// SaddlePointMethod; automatic: by size).
+enum class SaddlePointSolver { automatic, lu, augmented_lagrangian };
+
 struct Solver {
   Analysis analysis = Analysis::dynamic;
   Formulation formulation = Formulation::reparametrized;
@@ -444,7 +448,8 @@ struct Solver {
   // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
   // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
   int initial_equilibrium = 0;
-  PathFollowing path;                        // static analyses only
+  SaddlePointSolver saddle_point_solver = SaddlePointSolver::automatic;  // static analyses only
+  PathFollowing path;                                                    // static analyses only
   std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
 };
 

@@ -255,8 +255,8 @@ void check_cholmod(const Supernodal<Matrix>& llt, const Matrix& A) {
     throw_cholesky_out_of_memory(A.rows(), A.nonZeros(), long_indices, status);
 }
 
-template <class Matrix, class Rhs>
-Rhs cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const Rhs& b) {
+template <class Matrix>
+void cholesky_factorize(Supernodal<Matrix>& llt, const Matrix& A) {
   constexpr bool long_indices = std::is_same_v<typename Matrix::StorageIndex, SuiteSparse_long>;
   try {
     llt.factorize(A);
@@ -265,6 +265,10 @@ Rhs cholesky_solve(Supernodal<Matrix>& llt, const Matrix& A, const Rhs& b) {
   }
   check_cholmod(llt, A);
   if (llt.info() != Eigen::Success) throw std::runtime_error("matrix not positive definite");
+}
+
+template <class Matrix, class Rhs>
+Rhs cholesky_back_solve(const Supernodal<Matrix>& llt, const Rhs& b) {
   Rhs x = llt.solve(b);
   if (!x.allFinite()) throw std::runtime_error("matrix not positive definite");
   return x;
@@ -290,6 +294,7 @@ struct FixedPatternCholesky::Impl {
   KeptPattern pattern64;
   SpMatL A64;
   bool last_long = false;
+  bool factorized = false;
 };
 
 FixedPatternCholesky::FixedPatternCholesky(IndexWidth width) : impl_(std::make_unique<Impl>()) {
@@ -306,33 +311,46 @@ bool FixedPatternCholesky::used_long_indices() const {
   return impl_->last_long;
 }
 
-template <class Rhs>
-Rhs FixedPatternCholesky::solve_any(const SpMat& A, const Rhs& b) {
+void FixedPatternCholesky::factorize(const SpMat& A) {
   if (!A.isCompressed()) throw std::logic_error("FixedPatternCholesky: matrix not compressed");
   Impl& m = *impl_;
+  m.factorized = false;
   m.last_long = use_long(m.width, A);
   if (!m.last_long) {
     analyze_if_new_pattern(m.pattern, A, [&] { analyze_cholesky(m.llt, A); });
-    return cholesky_solve(m.llt, A, b);
+    cholesky_factorize(m.llt, A);
+  } else {
+    if (!m.llt64) {
+      m.llt64 = std::make_unique<Supernodal<SpMatL>>();
+      quiet(*m.llt64);
+    }
+    bool copied = false;
+    analyze_if_new_pattern(m.pattern64, A, [&] {
+      copy_long(A, true, m.A64);
+      copied = true;
+      analyze_cholesky(*m.llt64, m.A64);
+    });
+    if (!copied) copy_long(A, false, m.A64);
+    cholesky_factorize(*m.llt64, m.A64);
   }
-  if (!m.llt64) {
-    m.llt64 = std::make_unique<Supernodal<SpMatL>>();
-    quiet(*m.llt64);
-  }
-  bool copied = false;
-  analyze_if_new_pattern(m.pattern64, A, [&] {
-    copy_long(A, true, m.A64);
-    copied = true;
-    analyze_cholesky(*m.llt64, m.A64);
-  });
-  if (!copied) copy_long(A, false, m.A64);
-  return cholesky_solve(*m.llt64, m.A64, b);
+  m.factorized = true;
+}
+template <class Rhs>
+Rhs FixedPatternCholesky::solve_any(const Rhs& b) const {
+  const Impl& m = *impl_;
+  if (!m.factorized) throw std::logic_error("FixedPatternCholesky: no factorization to solve with");
+  return m.last_long ? cholesky_back_solve(*m.llt64, b) : cholesky_back_solve(m.llt, b);
 }
 VecX FixedPatternCholesky::solve(const SpMat& A, const VecX& b) {
-  return solve_any(A, b);
+  factorize(A);
+  return solve_any(b);
 }
 MatX FixedPatternCholesky::solve_columns(const SpMat& A, const MatX& B) {
-  return solve_any(A, B);
+  factorize(A);
+  return solve_any(B);
+}
+VecX FixedPatternCholesky::solve(const VecX& b) const {
+  return solve_any(b);
 }
 
 // An empty G (no rows, or no columns: rows over a system without freedom, e.g. a locked loop) has

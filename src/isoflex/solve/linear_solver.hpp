@@ -99,12 +99,15 @@ class FixedPatternCholesky {
   FixedPatternCholesky& operator=(FixedPatternCholesky&&) noexcept;
   VecX solve(const SpMat& A, const VecX& b);
   MatX solve_columns(const SpMat& A, const MatX& B);  // the columns of B, one factorization
+  // The factorization alone, and solves with the last one (iterative solvers built on it).
+  void factorize(const SpMat& A);
+  VecX solve(const VecX& b) const;
   int analyses() const;
   bool used_long_indices() const;
 
  private:
   template <class Rhs>
-  Rhs solve_any(const SpMat& A, const Rhs& b);
+  Rhs solve_any(const Rhs& b) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
