@@ -103,3 +103,25 @@ TEST(RowSelection, StripConstraintsAtInnerCornersAreChosenTogether) {
   EXPECT_LT(std::abs(af_bs - af_d), 1e-5 * std::abs(af_d));  // measured 1.1e-6
   EXPECT_LT(std::abs(af_bs - one), 1e-5 * std::abs(one));    // measured 9.1e-7
 }
+
+// The first load step starts at the reference and takes the rows System::compile chose there
+// (ReselectedGroup::reference_rows) instead of choosing again: the same rows as a new choice with
+// the reference counts (the rank leading pivots of the same factorizations).
+TEST(RowSelection, ReferenceChoiceIsTheChoiceAtTheReference) {
+  test::PlateGrid g;
+  g.pu = 4;
+  g.pv = 3;
+  g.elements = 12;
+  g.coupling = "strip_constraints";
+  const model::Model m = io::read_model_string(test::plate_grid_yaml(g), "m.yaml");
+  const auto sys = system::System::compile(m);
+  ASSERT_EQ(sys.reselected_groups().size(), 17u);
+  std::vector<int> counts;
+  std::vector<std::vector<int>> reference;
+  for (const auto& group : sys.reselected_groups()) {
+    counts.push_back(group.rank);
+    reference.push_back(group.reference_rows);
+    EXPECT_EQ(static_cast<int>(group.reference_rows.size()), group.rank);
+  }
+  EXPECT_EQ(system::select_group_rows(sys.reselected_group_jacobians(sys.q0()), counts), reference);
+}

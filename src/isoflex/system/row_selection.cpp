@@ -148,7 +148,13 @@ std::vector<std::vector<int>> select_group_rows(
     MatX D = MatX::Zero(G.rows(), static_cast<Eigen::Index>(all.size()));
     for (int c : columns)
       for (SpMat::InnerIterator it(G, c); it; ++it) D(it.row(), at(c)) = it.value();
+    // The rank threshold stays relative to the rows before the projection: where they nearly lie
+    // in the kept rows' span, the projection is round-off, and a threshold relative to its own
+    // largest pivot would keep it (9 "independent" rows of 4 triples on a flat 3 × 3 plate with
+    // clamped edges, and a singular Newton matrix).
+    double threshold = 1e-10;
     if (!near.empty()) {
+      const double before = D.cwiseAbs().maxCoeff();
       MatX K = MatX::Zero(static_cast<Eigen::Index>(near.size()), D.cols());
       for (std::size_t i = 0; i < near.size(); ++i)
         for (SpRow::InnerIterator it(*near[i]); it; ++it)
@@ -156,10 +162,12 @@ std::vector<std::vector<int>> select_group_rows(
       const Eigen::ColPivHouseholderQR<MatX> qr(K.transpose());
       const MatX Q = MatX(qr.householderQ()).leftCols(qr.rank());
       D -= (D * Q) * Q.transpose();
+      const double after = D.cwiseAbs().maxCoeff();
+      threshold = after > 1e-10 * before ? 1e-10 * before / after : 1.0;
     }
     std::vector<int>& chosen = out[g];
     if (counts[g] < 0) {
-      chosen = solve::independent_rows_lu(D);
+      chosen = threshold < 1.0 ? solve::independent_rows_lu(D, threshold) : std::vector<int>{};
       counts[g] = static_cast<int>(chosen.size());
     } else {
       chosen = solve::leading_rows_lu(D, counts[g]);

@@ -191,11 +191,13 @@ class System {
   const VecX& selected_compliance() const { return selected_compliance_; }
   // Per constraint whose rows are reselected at every Newton iterate
   // (joints::Constraint::reselected()): their positions in selected_rows() and how many are
-  // independent at the reference modulo the linear conditions. Empty for most models.
+  // independent at the reference modulo the linear conditions, and which (indices into positions,
+  // sorted: system::select_group_rows at q0, all groups together). Empty for most models.
   struct ReselectedGroup {
     int constraint = -1;  // in nary_constraints()
     std::vector<int> positions;
     int rank = 0;
+    std::vector<int> reference_rows;
   };
   const std::vector<ReselectedGroup>& reselected_groups() const { return reselected_groups_; }
   // G with the eliminated coordinates' columns zeroed and projected off the rows of the linear

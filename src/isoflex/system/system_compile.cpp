@@ -994,8 +994,11 @@ void System::select_loop_rows() {
   // control points, where a row of one may follow from the kept rows of another.
   if (!reselected_groups_.empty()) {
     std::vector<int> counts(reselected_groups_.size(), -1);
-    select_group_rows(reselected_group_jacobians(q0_), counts);
-    for (std::size_t g = 0; g < counts.size(); ++g) reselected_groups_[g].rank = counts[g];
+    const auto chosen = select_group_rows(reselected_group_jacobians(q0_), counts);
+    for (std::size_t g = 0; g < counts.size(); ++g) {
+      reselected_groups_[g].rank = counts[g];
+      reselected_groups_[g].reference_rows = chosen[g];
+    }
   }
   // A dropped row holds only if the kept ones imply it; for a prescribed d(t) that is a property
   // of d the rank test cannot see, so a moving row must be independent.
@@ -1021,10 +1024,22 @@ SpMat System::modulo_linear_conditions(const SpMat& G) const {
     return out;
   };
   if (linear_.multipliers() == 0) return free_columns(G);
-  // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C (on the free coordinates,
-  // where C has full row rank: the static solver needs it).
+  // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C on the free coordinates,
+  // with C's independent rows there: patches that share control points can state a condition
+  // twice in different rows (the slope rows of clamped edges that meet across an interface), and
+  // (C Cᵀ)⁻¹ of dependent rows made AF-BS rows look independent (9 of the 4 triples' rows).
   MatX Gf = MatX(free_columns(G));
-  const SpMat C = free_columns(linear_.C);
+  SpMat C = free_columns(linear_.C);
+  if (const std::vector<int> rows = independent_rows(C).rows;
+      static_cast<Eigen::Index>(rows.size()) < C.rows()) {
+    Triplets t;
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = C;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      for (decltype(R)::InnerIterator it(R, rows[k]); it; ++it)
+        t.emplace_back(static_cast<int>(k), static_cast<int>(it.col()), it.value());
+    C.resize(static_cast<Eigen::Index>(rows.size()), C.cols());
+    C.setFromTriplets(t.begin(), t.end());
+  }
   solve::NormalEquations normal;
   for (Eigen::Index i = 0; i < Gf.rows(); ++i) {
     const VecX g = Gf.row(i).transpose();
