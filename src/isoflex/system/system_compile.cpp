@@ -1024,22 +1024,10 @@ SpMat System::modulo_linear_conditions(const SpMat& G) const {
     return out;
   };
   if (linear_.multipliers() == 0) return free_columns(G);
-  // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C on the free coordinates,
-  // with C's independent rows there: patches that share control points can state a condition
-  // twice in different rows (the slope rows of clamped edges that meet across an interface), and
-  // (C Cᵀ)⁻¹ of dependent rows made AF-BS rows look independent (9 of the 4 triples' rows).
+  // Each row g − Cᵀ (C Cᵀ)⁻¹ C g: its part outside the row space of C (on the free coordinates,
+  // where C has full row rank: the static solver needs it).
   MatX Gf = MatX(free_columns(G));
-  SpMat C = free_columns(linear_.C);
-  if (const std::vector<int> rows = independent_rows(C).rows;
-      static_cast<Eigen::Index>(rows.size()) < C.rows()) {
-    Triplets t;
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> R = C;
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      for (decltype(R)::InnerIterator it(R, rows[k]); it; ++it)
-        t.emplace_back(static_cast<int>(k), static_cast<int>(it.col()), it.value());
-    C.resize(static_cast<Eigen::Index>(rows.size()), C.cols());
-    C.setFromTriplets(t.begin(), t.end());
-  }
+  const SpMat C = free_columns(linear_.C);
   solve::NormalEquations normal;
   for (Eigen::Index i = 0; i < Gf.rows(); ++i) {
     const VecX g = Gf.row(i).transpose();
