@@ -155,6 +155,11 @@ TEST(Cli, StepCountOutOfRangeIsExitCode2) {
   EXPECT_NE(r.out.find("error: --dt, --t-end: t_end = 0.001 is shorter than half a time step"),
             std::string::npos)
       << r.out;
+  r = run("run " + f + " -o " + (d / "out").string() + " --t-end 0.25 --dt 0.1");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: --dt, --t-end: t_end = 0.25 is not a whole multiple of dt = 0.1"),
+            std::string::npos)
+      << r.out;
   EXPECT_FALSE(fs::exists(d / "out"));
 }
 

@@ -300,6 +300,15 @@ TEST(ModelReader, StepCountOfDtAndTEnd) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.1", "  t_end: 0.01"})),
             "m.yaml:8: solver.t_end: t_end = 0.01 is shorter than half a time step (dt = 0.1): "
             "the run would take no step");
+  // A time integration ends at n dt: a t_end between two step times was cut short silently
+  // (dt 0.003, t_end 10 stopped at 9.999 while summary.json said 10). Load steps divide t_end.
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  dt: 0.003", "  t_end: 10"})),
+            "m.yaml:8: solver.t_end: t_end = 10 is not a whole multiple of dt = 0.003 (t_end / dt "
+            "= 3333.333333): the run takes steps of dt; use t_end = 9.999 or 10.002, or a dt "
+            "that divides t_end");
+  EXPECT_EQ(error_of(with_bodies({"solver: {dt: 0.1, t_end: 0.3}"})), "(no error)");
+  EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 0.3, t_end: 1}"})),
+            "(no error)");
   // A static analysis takes at least one load step; 10⁸ steps are allowed.
   EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 1, t_end: 0.1}"})), "(no error)");
   EXPECT_EQ(error_of(with_bodies({"solver: {dt: 1e-8, t_end: 1}"})), "(no error)");

@@ -20,14 +20,17 @@ StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int dep
   return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
 }
 
-// One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, and a
-// failure (after a converged part, too) leaves s as it was.
+// One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, s.t is
+// then step · dt (a run starts at t = 0: the time of step n is n Δt, not a sum of n increments,
+// which drifted to 9.999000000000267 after 3333 steps of 0.003), and a failure (after a converged
+// part, too) leaves s as it was.
 template <class Attempt>
 StepStats whole_step(State& s, Attempt&& attempt, double dt, int max_subdivisions) {
   const State start = s;
   try {
     const StepStats st = subdivided(attempt, dt, max_subdivisions);
     s.step = start.step + 1;
+    s.t = static_cast<double>(s.step) * dt;
     return st;
   } catch (const NewtonFailure&) {
     s = start;

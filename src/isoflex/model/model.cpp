@@ -130,6 +130,17 @@ std::string step_count_problem(const Solver& s) {
                   s.t_end, s.dt);
     return text;
   }
+  // A time integration takes steps of dt and ends at n dt: a t_end between two step times would
+  // be cut short (or run over) without a word. Load steps divide t_end evenly whatever dt.
+  const double ratio = s.t_end / s.dt;
+  if (s.analysis == Analysis::dynamic && std::abs(ratio - steps) > 1e-9 * ratio) {
+    const double below = std::floor(ratio) * s.dt, above = std::ceil(ratio) * s.dt;
+    std::snprintf(text, sizeof text,
+                  "t_end = %.10g is not a whole multiple of dt = %.10g (t_end / dt = %.10g): the "
+                  "run takes steps of dt; use t_end = %.10g or %.10g, or a dt that divides t_end",
+                  s.t_end, s.dt, ratio, below, above);
+    return text;
+  }
   return "";
 }
 
