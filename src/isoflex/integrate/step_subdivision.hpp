@@ -21,16 +21,22 @@ StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int dep
 }
 
 // One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, s.t is
-// then step · dt (a run starts at t = 0: the time of step n is n Δt, not a sum of n increments,
-// which drifted to 9.999000000000267 after 3333 steps of 0.003), and a failure (after a converged
-// part, too) leaves s as it was.
+// then the next point of its grid of steps dt (State::grid_start: the time of step n of a run is
+// n Δt, not a sum of n increments, which drifted to 9.999000000000267 after 3333 steps of 0.003),
+// and a failure (after a converged part, too) leaves s as it was.
 template <class Attempt>
 StepStats whole_step(State& s, Attempt&& attempt, double dt, int max_subdivisions) {
   const State start = s;
   try {
     const StepStats st = subdivided(attempt, dt, max_subdivisions);
     s.step = start.step + 1;
-    s.t = static_cast<double>(s.step) * dt;
+    if (start.grid_dt != dt) {
+      s.grid_start = start.t;
+      s.grid_dt = dt;
+      s.grid_steps = 0;
+    }
+    ++s.grid_steps;
+    s.t = s.grid_start + static_cast<double>(s.grid_steps) * dt;
     return st;
   } catch (const NewtonFailure&) {
     s = start;

@@ -20,6 +20,11 @@ namespace isoflex::integrate {
 struct State {
   int step = 0;
   double t = 0.0;
+  // The grid of equal steps that t lies on: t = grid_start + grid_steps · grid_dt, computed as such
+  // (integrate/step_subdivision.hpp whole_step): the time of step n of a run is n Δt, not a sum
+  // of n increments; a step of another length starts a new grid at the current t.
+  double grid_start = 0.0, grid_dt = 0.0;
+  int grid_steps = 0;
   VecX q, v;
   // Energy–momentum: the converged unknowns of the last step (empty at the start) and its
   // length; the Newton predictor extrapolates with them (q_{n+1} ≈ qₙ + Δt vₙ, u ≈ uₙ Δt/Δt_last,
