@@ -252,3 +252,34 @@ TEST(Cli, PlotScriptsReadTheOutputs) {
   EXPECT_EQ(script("plot_history.py " + (d / "missing.csv").string()), 2);
   fs::remove_all(d);
 }
+
+// Initial velocities that the joints do not admit are projected; `run` says so (it used to say
+// nothing; only `check` did) and summary.json records the relative change, 0 when admissible.
+TEST(Cli, RunWarnsOfProjectedInitialVelocities) {
+  const fs::path d = temp_dir("v0");
+  const std::string radial = with(kGood, "    position: [1, 0, 0]\n",
+                                  "    position: [1, 0, 0]\n    velocity: [1, 0, 2]\n");
+  for (const bool admissible : {false, true}) {
+    std::ofstream(d / "m.yaml") << (admissible ? kGood : radial);
+    const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::string s = read(d / "out/summary.json");
+    const std::string key = "\"initial_velocity_projection\": ";
+    const auto k = s.find(key);
+    ASSERT_NE(k, std::string::npos) << s;
+    const double change = std::stod(s.substr(k + key.size()));
+    if (admissible) {
+      EXPECT_EQ(change, 0.0);
+      EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+      continue;
+    }
+    EXPECT_GT(change, 0.1);  // the radial velocity 1 of |v| = √5 removed (measured 0.775)
+    char printed[32];
+    std::snprintf(printed, sizeof printed, "%.3g", change);
+    EXPECT_NE(r.out.find("warning: the initial velocities violate the joints; the run starts from "
+                         "the nearest admissible ones (relative change " +
+                         std::string(printed) + ", summary.json initial_velocity_projection)"),
+              std::string::npos)
+        << r.out;
+  }
+}

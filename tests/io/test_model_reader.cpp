@@ -307,8 +307,7 @@ TEST(ModelReader, StepCountOfDtAndTEnd) {
             "= 3333.333333): the run takes steps of dt; use t_end = 9.999 or 10.002, or a dt "
             "that divides t_end");
   EXPECT_EQ(error_of(with_bodies({"solver: {dt: 0.1, t_end: 0.3}"})), "(no error)");
-  EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 0.3, t_end: 1}"})),
-            "(no error)");
+  EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 0.3, t_end: 1}"})), "(no error)");
   // A static analysis takes at least one load step; 10⁸ steps are allowed.
   EXPECT_EQ(error_of(with_bodies({"solver: {analysis: static, dt: 1, t_end: 0.1}"})), "(no error)");
   EXPECT_EQ(error_of(with_bodies({"solver: {dt: 1e-8, t_end: 1}"})), "(no error)");

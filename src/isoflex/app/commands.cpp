@@ -516,6 +516,17 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
                             m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
+  // Given velocities that the joints do not admit are replaced by the nearest admissible ones
+  // (System::set_initial_velocities): said here as `check` says it, and recorded.
+  if (!statics) {
+    sum.initial_velocity_projection = sys.initial_velocity_projection_error();
+    if (*sum.initial_velocity_projection > 1e-9)
+      fmt::print(err,
+                 "warning: the initial velocities violate the joints; the run starts from the "
+                 "nearest admissible ones (relative change {:.3g}, summary.json "
+                 "initial_velocity_projection)\n",
+                 *sum.initial_velocity_projection);
+  }
 
   const auto names = body_names(m);
   integrate::State state;

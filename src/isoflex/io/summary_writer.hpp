@@ -35,6 +35,9 @@ struct RunSummary {
   std::optional<double> dissipated_energy;
   std::optional<double> external_work;  // a dynamic run with loads: their work since t = 0
   std::optional<int> initial_equilibrium_load_steps;
+  // A dynamic run: the relative change ‖v₀ − v_given‖/max(1, ‖v_given‖) of the initial twists by
+  // their projection onto the velocities the joints admit (0: the given ones were admissible).
+  std::optional<double> initial_velocity_projection;
   // A static run whose saddle-point systems went to the augmented Lagrangian
   // (solver.saddle_point_solver): its GMRES iterations in all, and the solves that fell back to
   // the sparse LU.
