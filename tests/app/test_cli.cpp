@@ -218,13 +218,25 @@ TEST(Cli, NewtonFailureKeepsResultsAndSaysWhere) {
   const fs::path d = temp_dir("diverge");
   std::ofstream(d / "m.yaml") << with(kGood, "solver: {dt: 0.01, t_end: 0.2}",
                                       "solver: {dt: 0.01, t_end: 0.2, max_iterations: 1}");
-  const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  const auto r = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() +
+                     " --max-subdivisions 0");
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("step 1 (t = 0.01): Newton did not converge; residual"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find(" after 1 iterations (tolerance"), std::string::npos) << r.out;
+  // The message says what to change.
+  EXPECT_NE(r.out.find("; to get further: a smaller time step (solver.dt or --dt), more halvings "
+                       "of a failing step (solver.max_subdivisions or --max-subdivisions, now 0, "
+                       "at most 20), or more Newton iterations (solver.max_iterations, now 1)"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(read(d / "out/summary.json").find("\"status\": \"failed\""), std::string::npos);
   EXPECT_TRUE(fs::exists(d / "out/history.csv"));
+  // By default a failing step is halved (up to 6 times): one iteration then suffices.
+  const auto halved = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  EXPECT_EQ(halved.code, 0) << halved.out;
+  EXPECT_NE(read(d / "out/summary.json").find("\"status\": \"completed\""), std::string::npos);
+  EXPECT_EQ(run("run " + (d / "m.yaml").string() + " --max-subdivisions 21").code, 2);
 }
 
 // The plot scripts read what a run writes (history.csv, probes.csv, resultants.csv) and write

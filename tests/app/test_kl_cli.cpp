@@ -192,9 +192,16 @@ TEST(KLCli, NewtonFailureKeepsResultsAndSaysWhere) {
   m.replace(m.find("linear: true"), 12, "max_iterations: 1");
   m.replace(m.find("\"-t\""), 4, "\"-1e3*t*(t>0.6)\"");
   std::ofstream(d / "m.yaml") << m;
-  const Result r = run("run --static " + (d / "m.yaml").string() + " -o " + (d / "out").string());
+  const Result r = run("run --static --max-subdivisions 0 " + (d / "m.yaml").string() + " -o " +
+                       (d / "out").string());
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("load step 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("; to get further: more load steps (a smaller solver.dt), more halvings of "
+                       "a failing load step (solver.max_subdivisions or --max-subdivisions, now "
+                       "0, at most 20), more Newton iterations (solver.max_iterations, now 1), or "
+                       "path following past a limit point (solver.path_following)"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("results up to load step 1, t = 0.5"), std::string::npos) << r.out;
   EXPECT_NE(read(d / "out" / "summary.json").find("\"status\": \"failed\""), std::string::npos);
   EXPECT_TRUE(fs::exists(d / "out" / "vtk" / "plate_000001.vtu"));

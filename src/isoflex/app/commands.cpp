@@ -82,6 +82,7 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
     if (o && o->t_end) s.t_end = *o->t_end;
+    if (o && o->max_subdivisions) s.max_subdivisions = *o->max_subdivisions;
     if (!(s.dt > 0) || !(s.t_end > 0)) {
       fmt::print(err, "error: --dt and --t-end must be positive\n");
       return std::nullopt;
@@ -256,6 +257,25 @@ std::string non_finite_results(const integrate::Snapshot& snap, const integrate:
   std::string text;
   for (const std::string& p : parts) text += (text.empty() ? "" : ", ") + p;
   return text;
+}
+
+// What a user can change after a step or load step that Newton could not solve (appended to
+// the failure message).
+std::string newton_failure_hint(const model::Solver& s) {
+  const std::string halvings = fmt::format(
+      "more halvings of a failing {} (solver.max_subdivisions or --max-subdivisions, "
+      "now {}, at most 20)",
+      s.analysis == model::Analysis::statics ? "load step" : "step", s.max_subdivisions);
+  if (s.analysis == model::Analysis::statics)
+    return fmt::format(
+        "; to get further: more load steps (a smaller solver.dt), {}, more Newton iterations "
+        "(solver.max_iterations, now {}), or path following past a limit point "
+        "(solver.path_following)",
+        halvings, s.max_iterations);
+  return fmt::format(
+      "; to get further: a smaller time step (solver.dt or --dt), {}, or more Newton iterations "
+      "(solver.max_iterations, now {})",
+      halvings, s.max_iterations);
 }
 
 }  // namespace
@@ -645,7 +665,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     }
   } catch (const integrate::NewtonFailure& e) {
     sum.status = "failed";
-    sum.message = e.what();
+    sum.message = std::string(e.what()) + newton_failure_hint(m.solver);
     code = 3;
   } catch (const io::OutputError& e) {
     sum.status = "output_error";

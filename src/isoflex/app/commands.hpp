@@ -15,6 +15,7 @@ struct RunOptions {
   std::string outdir;  // default: out/<model file stem>
   std::optional<model::Formulation> formulation;
   std::optional<double> dt, t_end;
+  std::optional<int> max_subdivisions;  // overrides solver.max_subdivisions (0 … 20)
   // Static equilibrium with load stepping (integrate::StaticEquilibrium): t is a load parameter.
   bool statics = false;
   // Threads of the Kirchhoff–Love shell assembly; 0 = every hardware thread. Results do not

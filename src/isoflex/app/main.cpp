@@ -25,6 +25,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"constrained", "nullspace", "reparametrized"}));
   r->add_option("--dt", run.dt, "time step (overrides the model)");
   r->add_option("--t-end", run.t_end, "end time (overrides the model)");
+  r->add_option("--max-subdivisions", run.max_subdivisions,
+                "halvings of a step (or load step) whose Newton iteration fails, 0 ... 20 "
+                "(overrides solver.max_subdivisions, default 6)")
+      ->check(CLI::Range(0, 20));
   r->add_flag("--static", run.statics,
               "static equilibrium at t = dt, 2 dt, ..., t_end (t as a load parameter)");
   std::string run_memory, check_memory;

@@ -441,8 +441,9 @@ struct Solver {
   double increment_tolerance = 1e-11;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
   int max_iterations = 25;
   // A time step whose Newton iteration fails is retried as two half steps, at most this many
-  // halvings deep (0: never; the run stops at the failing step).
-  int max_subdivisions = 0;
+  // halvings deep (0: never; the run stops at the failing step). On by default: a step too long
+  // for Newton (a free-flying beam at Δt = 0.5) is halved rather than ending the run.
+  int max_subdivisions = 6;
   // Static solve only: small displacements (one Newton correction from q₀ per load step).
   bool linear = false;
   // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
