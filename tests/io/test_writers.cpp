@@ -1171,3 +1171,20 @@ TEST(ProgressBar, LineFormat) {
   EXPECT_EQ(app::ProgressBar::format_duration(-1.0), "--:--");
   EXPECT_EQ(app::ProgressBar::format_duration(3725.0), "1:02:05");
 }
+
+// The ETA follows the recent rate: a run that did half its work in 5 s and then slowed to 0.1
+// in 20 s has 0.4 left at 0.005 per second, 80 s (the average since the start said 16.7 s).
+TEST(ProgressBar, EtaFollowsTheRecentRate) {
+  app::EtaEstimator e(10.0);
+  EXPECT_LT(e.eta(), 0.0);
+  e.add(0.0, 0.0);
+  EXPECT_LT(e.eta(), 0.0);
+  for (int i = 1; i <= 50; ++i) e.add(0.1 * i, 0.01 * i);  // 0.1 per second
+  EXPECT_NEAR(e.eta(), 5.0, 1e-9);
+  for (int i = 1; i <= 200; ++i) e.add(5.0 + 0.1 * i, 0.5 + 0.0005 * i);  // 0.005 per second
+  EXPECT_NEAR(e.eta(), 80.0, 1e-6);
+  app::EtaEstimator stalled;
+  stalled.add(0.0, 0.3);
+  stalled.add(20.0, 0.3);
+  EXPECT_LT(stalled.eta(), 0.0);  // no progress: unknown, not infinite
+}

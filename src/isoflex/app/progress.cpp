@@ -13,6 +13,23 @@ constexpr int kBarWidth = 30;
 constexpr auto kRedrawInterval = std::chrono::milliseconds(100);
 }  // namespace
 
+void EtaEstimator::add(double wall_seconds, double fraction) {
+  samples_.push_back({wall_seconds, fraction});
+  // Keep one sample at or before the window's start, so that the window spans `window_` seconds.
+  std::size_t first = 0;
+  while (first + 2 < samples_.size() && samples_[first + 1].wall <= wall_seconds - window_) ++first;
+  samples_.erase(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(first));
+}
+
+double EtaEstimator::eta() const {
+  if (samples_.size() < 2) return -1.0;
+  const Sample& a = samples_.front();
+  const Sample& b = samples_.back();
+  const double rate = (b.fraction - a.fraction) / (b.wall - a.wall);
+  if (!(rate > 0.0) || !std::isfinite(rate)) return -1.0;
+  return (1.0 - std::min(b.fraction, 1.0)) / rate;
+}
+
 ProgressBar::ProgressBar(double t_end, std::FILE* out)
     : t_end_(t_end), out_(out), active_(out != nullptr && isatty(fileno(out)) == 1) {}
 
@@ -75,13 +92,8 @@ void ProgressBar::draw(bool final) {
   const double fraction = path_end_ != 0.0 ? path_ / path_end_
                           : span > 0.0     ? (t_ - t_start_) / span
                                            : 1.0;
-  double eta = -1.0;
-  if (final) {
-    eta = 0.0;
-  } else if (fraction > 0.0) {
-    const double elapsed = std::chrono::duration<double>(now - wall_start_).count();
-    eta = elapsed * (1.0 - std::min(fraction, 1.0)) / fraction;
-  }
+  eta_.add(std::chrono::duration<double>(now - wall_start_).count(), fraction);
+  const double eta = final ? 0.0 : eta_.eta();
   // "\r" returns to the line start, "\x1b[K" clears what a longer previous line left behind.
   fmt::print(out_, "\r{}\x1b[K", format_line(fraction, step_, t_, iterations_, eta));
   std::fflush(out_);

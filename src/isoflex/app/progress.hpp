@@ -1,15 +1,35 @@
 #pragma once
 // A one-line progress display on a terminal:
 //   [############..................]  42%  step 420  t=4.2000  it=3  ETA 00:05
-// redrawn at most ten times a second and finished with a newline. Writes nothing at all when
-// `out` is not a terminal (log files, pipes, tests).
+// redrawn at most ten times a second and finished with a newline; the ETA by EtaEstimator. Writes
+// nothing at all when `out` is not a terminal (log files, pipes, tests).
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "isoflex/integrate/snapshot.hpp"
 
 namespace isoflex::app {
+
+// The time a run still needs, from the measured rate of its recent progress: the fraction done
+// per second of wall time over the samples of the last `window` seconds (at least the last two
+// samples), not the average since the start — a run that slows down (Newton stalling on stiff
+// shells late in the run) gets an ETA at its present speed.
+class EtaEstimator {
+ public:
+  explicit EtaEstimator(double window_seconds = 10.0) : window_(window_seconds) {}
+  void add(double wall_seconds, double fraction);
+  // Seconds to fraction 1; < 0 while unknown (fewer than two samples, no progress in the window).
+  double eta() const;
+
+ private:
+  struct Sample {
+    double wall, fraction;
+  };
+  double window_;
+  std::vector<Sample> samples_;  // the window's samples and the one before it, oldest first
+};
 
 class ProgressBar : public integrate::Observer {
  public:
@@ -49,6 +69,7 @@ class ProgressBar : public integrate::Observer {
   int iterations_ = 0;
   std::chrono::steady_clock::time_point wall_start_{};
   std::chrono::steady_clock::time_point last_draw_{};
+  EtaEstimator eta_;
 };
 
 }  // namespace isoflex::app
