@@ -248,3 +248,30 @@ TEST(KLCli, SummaryCountsTheSaddlePointSolvesOfTheAugmentedLagrangian) {
   }
   fs::remove_all(d);
 }
+
+// Gravity acts on bodies, beams and director shells from their mass data, on a Kirchhoff–Love
+// shell only through a self_weight load: a shell under gravity without one gets a warning from
+// check and run (model::gravity_warnings), and none once it has it.
+TEST(KLCli, GravityWithoutSelfWeightIsAWarning) {
+  const fs::path d = temp_dir("gravity");
+  fs::create_directories(d);
+  const std::string warning =
+      "kl_shells[0] (plate): the model's gravity does not act on a Kirchhoff-Love shell without a "
+      "self_weight load (kl_loads: - {shell: plate, self_weight: 1}, which needs the material's "
+      "density)";
+  std::ofstream(d / "bare.yaml") << plate("gravity: [0, 0, -9.81]\n");
+  EXPECT_NE(run("check " + (d / "bare.yaml").string()).out.find("warning          " + warning),
+            std::string::npos);
+  const Result r = run("run " + (d / "bare.yaml").string() + " -o " + (d / "bare").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: " + warning), std::string::npos) << r.out;
+  std::string weighed = plate("gravity: [0, 0, -9.81]\n");
+  weighed.replace(weighed.find("thickness: 0.01}"), 16, "thickness: 0.01, density: 100}");
+  weighed.replace(weighed.find("kl_loads:\n"), 10,
+                  "kl_loads:\n  - {shell: plate, self_weight: 1}\n");
+  std::ofstream(d / "weighed.yaml") << weighed;
+  const Result w = run("run " + (d / "weighed.yaml").string() + " -o " + (d / "w").string());
+  ASSERT_EQ(w.code, 0) << w.out;
+  EXPECT_EQ(w.out.find("warning"), std::string::npos) << w.out;
+  fs::remove_all(d);
+}

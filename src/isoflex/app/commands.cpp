@@ -462,6 +462,8 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
       return kExitBadInput;
     }
   }
+  for (const std::string& w : model::gravity_warnings(l->model))
+    fmt::print(out, "warning          {}\n", w);
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
                "warning          initial velocities violate the joints; projected (relative change "
@@ -536,6 +538,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
                             m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
+  for (const std::string& w : model::gravity_warnings(m)) fmt::print(err, "warning: {}\n", w);
   // Given velocities that the joints do not admit are replaced by the nearest admissible ones
   // (System::set_initial_velocities): said here as `check` says it, and recorded.
   if (!statics) {

@@ -1,5 +1,6 @@
 #include "isoflex/model/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -142,6 +143,24 @@ std::string step_count_problem(const Solver& s) {
     return text;
   }
   return "";
+}
+
+std::vector<std::string> gravity_warnings(const Model& m) {
+  std::vector<std::string> out;
+  if (m.gravity.isZero(0.0)) return out;
+  for (std::size_t k = 0; k < m.kl_shells.size(); ++k) {
+    const KLShell& s = m.kl_shells[k];
+    const bool weighed = std::any_of(m.kl_loads.begin(), m.kl_loads.end(), [&](const KLLoad& l) {
+      return l.shell == s.name && l.kind == KLLoadKind::self_weight;
+    });
+    if (weighed) continue;
+    out.push_back("kl_shells[" + std::to_string(k) + "] (" + s.name +
+                  "): the model's gravity does not act on a Kirchhoff-Love shell without a "
+                  "self_weight load (kl_loads: - {shell: " +
+                  s.name + ", self_weight: 1}" +
+                  (s.density > 0.0 ? "" : ", which needs the material's density") + ")");
+  }
+  return out;
 }
 
 }  // namespace isoflex::model

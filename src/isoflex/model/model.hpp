@@ -502,6 +502,11 @@ inline constexpr double kMaxSteps = 1e8;
 // kMaxSteps, or, in a dynamic analysis, no step at all (t_end < dt / 2; a static analysis takes
 // at least one load step). dt and t_end are > 0.
 std::string step_count_problem(const Solver& s);
+// Where the model's gravity does not act although it might be meant to: rigid bodies, beams and
+// director shells carry their weight from their mass data, a Kirchhoff–Love shell only through a
+// self_weight load (kl_loads), so a shell with density under gravity and without one gets a
+// warning (`check` and `run` print them). Empty without gravity.
+std::vector<std::string> gravity_warnings(const Model& m);
 // Whether a dynamic run of `m` dissipates through material damping (eta > 0 in a kl_shells or
 // shells material or a beam section) or dampers (springs with damping > 0 or a damping law,
 // bushings with a damping matrix, joints with a damping spring): history.csv gets the
