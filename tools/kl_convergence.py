@@ -108,6 +108,14 @@ def main():
     ap.add_argument("--plot")
     ap.add_argument("--title", default="")
     a = ap.parse_args()
+    # The output files' folders are made before the sweep, so that a path that cannot be written
+    # fails at once and not after the runs (and nothing lands elsewhere).
+    for path in (a.table, a.csv, a.plot):
+        if path and os.path.dirname(path):
+            try:
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+            except OSError as e:
+                fail(f"cannot create the folder of {path}: {e}")
     try:
         degrees = [int(x) for x in a.degrees.split(",")]
         knots = [int(x) for x in a.knots.split(",")]
