@@ -149,6 +149,26 @@ struct BeamMaker {
   VecX deformed(std::mt19937& g) const { return random_configuration(g, q0, kinds, 0.05, 0.1); }
 };
 
+// The beam of BeamMaker with its own triads at both nodes (elements::BeamElement's triad_a,
+// triad_b: the corner of a polyline), turned by 90° about d₂ at a and by 30° about a skew axis at b
+// against the nodes' triads: the element's directors are constant combinations of the nodes'.
+struct CornerBeamMaker : BeamMaker {
+  static constexpr const char* kName = "CornerBeam";
+  static Mat3 triad(const frame_node::Q& q, const Mat3& turn) {
+    Mat3 D;
+    for (int j = 0; j < 3; ++j) D.col(j) = q.segment<3>(3 + 3 * j);
+    return D * turn;
+  }
+  elements::BeamElement element{3,
+                                7,
+                                node_a(),
+                                node_b(),
+                                section(),
+                                Vec3::Zero(),
+                                triad(node_a(), rodrigues(Vec3(0.0, 1.5707963267948966, 0.0))),
+                                triad(node_b(), rodrigues(Vec3(0.3, 0.2, -0.4)))};
+};
+
 // The curved, skewed quad of test_director_shell_element.cpp: corners off a plane, directors the
 // corner normals tilted by small rotations. Membrane (Eh = 10⁴), bending and shear stiffnesses of
 // very different size; ANS transverse shear and assumed in-plane shear (the defaults).
@@ -461,9 +481,10 @@ struct MakerNames {
   }
 };
 
-using Makers = ::testing::Types<RigidBodyMaker, BeamMaker, DirectorShellMaker, KLPatchMaker,
-                                BendingStripMaker, SpringDamperMaker, NonlinearSpringDamperMaker,
-                                BushingMaker, SliderSpringMaker, RevoluteSpringMaker>;
+using Makers =
+    ::testing::Types<RigidBodyMaker, BeamMaker, CornerBeamMaker, DirectorShellMaker, KLPatchMaker,
+                     BendingStripMaker, SpringDamperMaker, NonlinearSpringDamperMaker, BushingMaker,
+                     SliderSpringMaker, RevoluteSpringMaker>;
 TYPED_TEST_SUITE(ElementContract, Makers, MakerNames);
 
 }  // namespace

@@ -46,7 +46,8 @@ void require(bool ok, const std::string& message) {
 }  // namespace
 
 BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
-                         const frame_node::Q& q0_b, const BeamSection& section, const Vec3& gravity)
+                         const frame_node::Q& q0_b, const BeamSection& section, const Vec3& gravity,
+                         const std::optional<Mat3>& triad_a, const std::optional<Mat3>& triad_b)
     : nodes_{node_a, node_b},
       section_(section),
       g_(gravity),
@@ -85,6 +86,24 @@ BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
                        bilinear(midpoint_of(j), derivative_of(k, L0_)));
   }
   C_ << section.GA1, section.GA2, section.EA, section.EI1, section.EI2, section.GJ;
+
+  // The element's blocks Q̃ = Q P from the nodes' Q (3 × 8): at a node with its own triad the
+  // element's directors d̃ᵢ = Σⱼ Rᵢⱼ dⱼ, R = triadᵀ D⁰, so E_k = ½⟨h_k, PᵀQᵀQP⟩ = ½⟨P h_k Pᵀ, QᵀQ⟩.
+  p_ = Block8::Identity();
+  for (int node = 0; node < 2; ++node) {
+    const std::optional<Mat3>& triad = node == 0 ? triad_a : triad_b;
+    if (!triad) continue;
+    const frame_node::Q& q0n = node == 0 ? q0_a : q0_b;
+    Mat3 D0;
+    for (int j = 0; j < 3; ++j) D0.col(j) = q0n.segment<3>(3 + 3 * j);
+    require(((*triad).transpose() * *triad - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-8,
+            "the element's triad at a node is not orthonormal");
+    const Mat3 R = triad->transpose() * D0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) p_(block(node, 1 + j), block(node, 1 + i)) = R(i, j);
+  }
+  if (!p_.isIdentity(0.0))
+    for (Block8& h : h_) h = p_ * h * p_.transpose();
 
   Q q0;
   q0 << q0_a, q0_b;
@@ -198,14 +217,17 @@ VecX BeamElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, do
 MatX BeamElement::mass() const {
   // T = ½ ∫ (A_ρ|φ̇|² + M_ρ¹|ḋ₁|² + M_ρ²|ḋ₂|²) ds with ∫ N_a N_b ds = L₀/6 [[2, 1], [1, 2]]:
   // M = (L₀/6 [[2, 1], [1, 2]]) ⊗ diag(A_ρ, M_ρ¹, M_ρ², 0) ⊗ I₃ (consistent, constant).
+  // At a corner node the element's directors are Q P (constructor): m ↦ P m Pᵀ.
   const Vec<4> rho(section_.A_rho, section_.M_rho1, section_.M_rho2, 0.0);
-  Mat<kCoords, kCoords> M = Mat<kCoords, kCoords>::Zero();
+  Block8 m = Block8::Zero();
   for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b) {
-      const double n_ab = L0_ / 6.0 * (a == b ? 2.0 : 1.0);
+    for (int b = 0; b < 2; ++b)
       for (int f = 0; f < 4; ++f)
-        M.block<3, 3>(3 * block(a, f), 3 * block(b, f)).diagonal().setConstant(n_ab * rho(f));
-    }
+        m(block(a, f), block(b, f)) = L0_ / 6.0 * (a == b ? 2.0 : 1.0) * rho(f);
+  if (!p_.isIdentity(0.0)) m = p_ * m * p_.transpose();
+  Mat<kCoords, kCoords> M = Mat<kCoords, kCoords>::Zero();
+  for (int b = 0; b < 8; ++b)
+    for (int c = 0; c < 8; ++c) M.block<3, 3>(3 * b, 3 * c).diagonal().setConstant(m(b, c));
   return M;
 }
 

@@ -18,6 +18,7 @@
 // Γ₃ is the axial strain and K₃ the twist. Gravity V_g = −∫ A_ρ g·φ ds.
 // Kinetic energy T = ½ ∫ (A_ρ |φ̇|² + M_ρ¹ |ḋ₁|² + M_ρ² |ḋ₂|²) ds: d₃ carries no inertia.
 #include <array>
+#include <optional>
 
 #include "isoflex/elements/element.hpp"
 #include "isoflex/math/frame_node.hpp"
@@ -60,8 +61,18 @@ class BeamElement final : public Element {
   // node_a, node_b: system indices; q0_a, q0_b: reference frame nodes (orthonormal triads,
   // distinct positions). Throws std::invalid_argument for a zero length, non-orthonormal
   // reference triads, non-positive stiffnesses or negative inertia data.
+  //
+  // triad_a, triad_b (default: the node's own): the element's reference triad at the node,
+  // [d̃₁ d̃₂ d̃₃] as columns (orthonormal). The element's directors there are the constant
+  // combinations d̃ᵢ = Σⱼ Rᵢⱼ dⱼ of the node's, R = triadᵀ D⁰ (D⁰ the node's reference triad): a
+  // node shared with an element of another direction — the corner of a polyline — is a rigid
+  // corner, the two elements' triads keep their angle (docs/theory/beam.md §7). The strains stay
+  // quadratic in the node coordinates (h_k ↦ P h_k Pᵀ), so every property of the element holds
+  // as before.
   BeamElement(int node_a, int node_b, const frame_node::Q& q0_a, const frame_node::Q& q0_b,
-              const BeamSection& section, const Vec3& gravity = Vec3::Zero());
+              const BeamSection& section, const Vec3& gravity = Vec3::Zero(),
+              const std::optional<Mat3>& triad_a = std::nullopt,
+              const std::optional<Mat3>& triad_b = std::nullopt);
 
   const std::vector<int>& nodes() const override { return nodes_; }
   double potential(const VecX& q) const override;
@@ -108,6 +119,7 @@ class BeamElement final : public Element {
   std::array<Block8, 6> h_;  // DNSM-III (18) with one-point quadrature: E_k = ½ Σ h_k(b,c) q_b·q_c
   Strain6 C_;                // diag(GA₁, GA₂, EA, EI₁, EI₂, GJ), DNSM-III (69)
   Strain6 e0_;               // Γ⁰, K⁰
+  Block8 p_;                 // the element's blocks from the nodes' (identity but at a corner)
 };
 
 }  // namespace isoflex::elements
