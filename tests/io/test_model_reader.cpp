@@ -791,7 +791,10 @@ TEST(ModelReader, BeamErrors) {
   // unknown keys
   EXPECT_EQ(error_of(with_beam({"    radius: 1"})),
             "m.yaml:7: beams[0].radius: unknown key (valid keys: name, points, elements, d1, "
-            "section, draw)");
+            "section, draw, velocity, angular_velocity, velocity_point, node_velocities)");
+  // initial velocities of the nodes: a node index out of range names the beam's nodes
+  EXPECT_EQ(error_of(with_beam({"    node_velocities: [{node: 100000, velocity: [1, 0, 0]}]"})),
+            "m.yaml:7: beams[0].node_velocities[0].node: beam \"crank\" has nodes 0 … 20");
   // drawing size
   EXPECT_EQ(error_of(with_beam({"    draw: {width: 0.1}"})),
             "m.yaml:7: beams[0].draw.height: missing required key");

@@ -140,6 +140,16 @@ struct Beam {
   BeamSection section;
   // Cross-section of the cuboids drawn in the VTK output, along d₁ and d₂; 0: 1/50 of the length.
   double draw_width = 0, draw_height = 0;
+  // Initial velocities: the rigid field v(x) = velocity + angular_velocity × (x − velocity_point)
+  // at every node (velocity_point: default the first vertex), then per-node values that replace it
+  // at their nodes (node index along the beam; both global).
+  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+  std::optional<Vec3> velocity_point;
+  struct NodeVelocity {
+    int node = 0;
+    Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+  };
+  std::vector<NodeVelocity> node_velocities;
   Source source;
 
   int node_count() const {

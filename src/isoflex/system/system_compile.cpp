@@ -1050,10 +1050,26 @@ SpMat System::modulo_linear_conditions(const SpMat& G) const {
 // given body velocities, within the null space of the loop-closing rows — or, with rheonomic
 // rows, within the affine space G_cut P_tree ν = ḋ(0), the rate of their right-hand sides.
 void System::set_initial_velocities(const model::Model& model) {
-  VecX t_given = VecX::Zero(6 * node_count());  // beam and shell nodes start at rest
+  VecX t_given = VecX::Zero(6 * node_count());  // shell nodes start at rest
   for (int i = 0; i < static_cast<int>(model.bodies.size()); ++i) {
     t_given.segment<3>(6 * i) = model.bodies[i].velocity;
     t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
+  }
+  // Beams: the rigid field v + ω × (x − p) at every node, then the per-node values.
+  for (std::size_t b = 0; b < model.beams.size(); ++b) {
+    const model::Beam& B = model.beams[b];
+    const std::vector<int>& nodes = beams_[b].nodes;
+    const Vec3 p = B.velocity_point.value_or(B.points.front());
+    for (int i : nodes) {
+      const Vec3 x = q0_.segment<3>(q_offset(i));
+      t_given.segment<3>(6 * i) = B.velocity + B.angular_velocity.cross(x - p);
+      t_given.segment<3>(6 * i + 3) = B.angular_velocity;
+    }
+    for (const auto& nv : B.node_velocities) {
+      const int i = nodes[static_cast<std::size_t>(nv.node)];
+      t_given.segment<3>(6 * i) = nv.velocity;
+      t_given.segment<3>(6 * i + 3) = nv.angular_velocity;
+    }
   }
   VecX rate;  // ḋ(0) of the cut rows, by a one-sided second-order difference (t ≥ 0 only)
   if (rheonomic_ && model.solver.analysis == model::Analysis::dynamic) {
