@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "isoflex/elements/beam_element.hpp"
+#include "isoflex/elements/beam_mesh.hpp"
 #include "isoflex/elements/bending_strip.hpp"
 #include "isoflex/elements/director_shell_element.hpp"
 #include "isoflex/elements/element.hpp"
@@ -167,6 +168,20 @@ struct CornerBeamMaker : BeamMaker {
                                 Vec3::Zero(),
                                 triad(node_a(), rodrigues(Vec3(0.0, 1.5707963267948966, 0.0))),
                                 triad(node_b(), rodrigues(Vec3(0.3, 0.2, -0.4)))};
+};
+
+// One element of a helix (elements::helix_beam_nodes, the nodes of a curved beam): radius 0.8,
+// pitch 0.5, a 40° step, d₁ from a skew hint — the reference the model file's `arc` builds.
+struct HelixBeamMaker : BeamMaker {
+  static constexpr const char* kName = "HelixBeam";
+  static std::vector<frame_node::Q> nodes() {
+    return elements::helix_beam_nodes(Vec3(0.1, 0.2, -0.3), Vec3(0.2, -0.1, 1.0),
+                                      Vec3(0.9, 0.2, -0.2), 0.6981317007977318, 0.5,
+                                      Vec3(0.3, 1.0, 0.2), 1);
+  }
+  elements::BeamElement element{3, 7, nodes()[0], nodes()[1], section(), Vec3::Zero()};
+  VecX q0 = (VecX(24) << nodes()[0], nodes()[1]).finished();
+  VecX deformed(std::mt19937& g) const { return random_configuration(g, q0, kinds, 0.05, 0.1); }
 };
 
 // The curved, skewed quad of test_director_shell_element.cpp: corners off a plane, directors the
@@ -482,9 +497,9 @@ struct MakerNames {
 };
 
 using Makers =
-    ::testing::Types<RigidBodyMaker, BeamMaker, CornerBeamMaker, DirectorShellMaker, KLPatchMaker,
-                     BendingStripMaker, SpringDamperMaker, NonlinearSpringDamperMaker, BushingMaker,
-                     SliderSpringMaker, RevoluteSpringMaker>;
+    ::testing::Types<RigidBodyMaker, BeamMaker, CornerBeamMaker, HelixBeamMaker, DirectorShellMaker,
+                     KLPatchMaker, BendingStripMaker, SpringDamperMaker, NonlinearSpringDamperMaker,
+                     BushingMaker, SliderSpringMaker, RevoluteSpringMaker>;
 TYPED_TEST_SUITE(ElementContract, Makers, MakerNames);
 
 }  // namespace

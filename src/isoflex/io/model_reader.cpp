@@ -522,37 +522,12 @@ class Reader : YamlFields {
     }
   }
 
-  model::Beam read_beam(const YAML::Node& n, const std::string& p) {
-    expect_map(n, p);
-    check_keys(n, p,
-               {"name", "points", "elements", "d1", "section", "draw", "velocity",
-                "angular_velocity", "velocity_point", "node_velocities"});
-    model::Beam b;
-    b.source = source(n);
-
-    const YAML::Node name = require(n, p, "name");
-    const std::string name_key = join(p, "name");
-    b.name = string(name, name_key);
-    if (b.name.empty()) fail(name, name_key, "must not be empty");
-    if (b.name == "ground") fail(name, name_key, "\"ground\" is reserved for the fixed space");
-    if (b.name.find_first_of("[]") != std::string::npos) fail(name, name_key, kBracketMessage);
-    if (const auto it = beams_.find(b.name); it != beams_.end())
-      fail(name, name_key,
-           fmt::format("duplicate beam name \"{}\" (first at line {})", b.name, it->second.line));
-    if (const auto it = body_names_.find(b.name); it != body_names_.end()) {
-      // Reported at whichever of the two comes later in the file.
-      const auto& [body_name, body_key] = it->second;
-      if (line_of(body_name) > line_of(name))
-        fail(body_name, body_key,
-             fmt::format("duplicate name \"{}\": already the name of the beam at line {}", b.name,
-                         line_of(name)));
-      fail(name, name_key,
-           fmt::format("duplicate name \"{}\": already the name of the body at line {}", b.name,
-                       line_of(body_name)));
-    }
-
-    const YAML::Node points = require(n, p, "points");
+  // A polyline: `points`, `elements` per segment, `d1` not parallel to any segment.
+  void read_beam_polyline(const YAML::Node& n, const std::string& p, model::Beam& b) const {
+    const YAML::Node points = n["points"];
     const std::string points_key = join(p, "points");
+    if (!points)
+      fail(n, points_key, "missing required key (the polyline; or arc for a curved beam)");
     if (!points.IsSequence() || points.size() < 2)
       fail(points, points_key, "expected a list of at least 2 points [[x, y, z], [x, y, z], ...]");
     for (std::size_t k = 0; k < points.size(); ++k) {
@@ -588,7 +563,6 @@ class Reader : YamlFields {
 
     const YAML::Node d1 = require(n, p, "d1");
     b.d1 = direction(d1, join(p, "d1"));
-    read_beam_velocities(n, p, b);
     for (std::size_t k = 0; k < segments; ++k) {
       const Vec3 axis = (b.points[k + 1] - b.points[k]).normalized();
       const double c = std::abs(b.d1.dot(axis));
@@ -598,7 +572,93 @@ class Reader : YamlFields {
             fmt::format("must not be parallel to segment {} (points[{}] to points[{}]): |cos| = {}",
                         k, k, k + 1, c));
     }
+  }
 
+  // An arc or a helix (model::BeamArc): one `elements` count, `d1` (default: the axis) not
+  // parallel to the tangent at the start.
+  void read_beam_arc(const YAML::Node& n, const std::string& p, model::Beam& b) const {
+    const YAML::Node a = n["arc"];
+    const std::string ap = join(p, "arc");
+    expect_map(a, ap);
+    check_keys(a, ap, {"axis_point", "axis", "start", "angle", "pitch"});
+    model::BeamArc arc;
+    arc.axis_point = vec3(require(a, ap, "axis_point"), join(ap, "axis_point"));
+    arc.axis = direction(require(a, ap, "axis"), join(ap, "axis"));
+    const YAML::Node start = require(a, ap, "start");
+    arc.start = vec3(start, join(ap, "start"));
+    const YAML::Node angle = require(a, ap, "angle");
+    arc.angle = positive(angle, join(ap, "angle")) * M_PI / 180.0;
+    if (const auto v = a["pitch"]) arc.pitch = number(v, join(ap, "pitch"));
+    const double r = arc.radius(), scale = (arc.start - arc.axis_point).norm();
+    if (!(r > 1e-9 * std::max(scale, 1.0)))
+      fail(start, join(ap, "start"), "lies on the axis: the radius of the arc is zero");
+    if (arc.pitch == 0.0 && arc.angle > 2.0 * M_PI * (1.0 + 1e-12))
+      fail(angle, join(ap, "angle"),
+           "an arc without pitch turns at most 360 degrees (give pitch for a helix)");
+
+    const YAML::Node elements = require(n, p, "elements");
+    const std::string elements_key = join(p, "elements");
+    if (!elements.IsScalar())
+      fail(elements, elements_key, "expected one integer (the elements along the arc)");
+    const int e = integer(elements, elements_key, 1);
+    if (e > kMaxBeamElements)
+      fail(elements, elements_key,
+           fmt::format("too many elements ({}, at most {})", e, kMaxBeamElements));
+    b.elements = {e};
+
+    const Vec3 radial =
+        (arc.start - arc.axis_point) - (arc.start - arc.axis_point).dot(arc.axis) * arc.axis;
+    const Vec3 tangent =
+        (arc.axis.cross(radial) + arc.pitch / (2.0 * M_PI) * arc.axis).normalized();
+    if (const YAML::Node d1 = n["d1"]) {
+      b.d1 = direction(d1, join(p, "d1"));
+      const double c = std::abs(b.d1.dot(tangent));
+      if (!(c < 1.0 - kParallelTolerance))
+        fail(d1, join(p, "d1"),
+             fmt::format("must not be parallel to the arc's tangent at its start: |cos| = {}", c));
+    } else {
+      b.d1 = arc.axis;
+    }
+    b.arc = arc;
+  }
+
+  model::Beam read_beam(const YAML::Node& n, const std::string& p) {
+    expect_map(n, p);
+    check_keys(n, p,
+               {"name", "points", "arc", "elements", "d1", "section", "draw", "velocity",
+                "angular_velocity", "velocity_point", "node_velocities"});
+    model::Beam b;
+    b.source = source(n);
+
+    const YAML::Node name = require(n, p, "name");
+    const std::string name_key = join(p, "name");
+    b.name = string(name, name_key);
+    if (b.name.empty()) fail(name, name_key, "must not be empty");
+    if (b.name == "ground") fail(name, name_key, "\"ground\" is reserved for the fixed space");
+    if (b.name.find_first_of("[]") != std::string::npos) fail(name, name_key, kBracketMessage);
+    if (const auto it = beams_.find(b.name); it != beams_.end())
+      fail(name, name_key,
+           fmt::format("duplicate beam name \"{}\" (first at line {})", b.name, it->second.line));
+    if (const auto it = body_names_.find(b.name); it != body_names_.end()) {
+      // Reported at whichever of the two comes later in the file.
+      const auto& [body_name, body_key] = it->second;
+      if (line_of(body_name) > line_of(name))
+        fail(body_name, body_key,
+             fmt::format("duplicate name \"{}\": already the name of the beam at line {}", b.name,
+                         line_of(name)));
+      fail(name, name_key,
+           fmt::format("duplicate name \"{}\": already the name of the body at line {}", b.name,
+                       line_of(body_name)));
+    }
+
+    const YAML::Node points = n["points"], arc = n["arc"];
+    if (points && arc)
+      fail(arc, join(p, "arc"), "give either points (a polyline) or arc, not both");
+    if (arc)
+      read_beam_arc(n, p, b);
+    else
+      read_beam_polyline(n, p, b);
+    read_beam_velocities(n, p, b);
     b.section = read_section(require(n, p, "section"), join(p, "section"));
     if (const auto v = n["draw"]) {
       const std::string dp = join(p, "draw");

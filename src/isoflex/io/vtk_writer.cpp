@@ -306,9 +306,7 @@ VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const mode
   shapes_.reserve(model.bodies.size());
   for (const auto& b : model.bodies) shapes_.push_back(b.shape);
   for (const auto& b : model.beams) {
-    double length = 0.0;
-    for (std::size_t k = 1; k < b.points.size(); ++k)
-      length += (b.points[k] - b.points[k - 1]).norm();
+    const double length = b.length();
     beam_sections_[b.name] = {b.draw_width > 0 ? b.draw_width : length / 50,
                               b.draw_height > 0 ? b.draw_height : length / 50};
   }

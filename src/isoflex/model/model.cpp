@@ -79,6 +79,29 @@ std::optional<Integrator> integrator_from_string(const std::string& s) {
   return std::nullopt;
 }
 
+double BeamArc::radius() const {
+  const Vec3 r = start - axis_point;
+  return (r - r.dot(axis) * axis).norm();
+}
+
+double BeamArc::length() const {
+  return angle * std::hypot(radius(), pitch / (2.0 * M_PI));
+}
+
+Vec3 BeamArc::end() const {
+  const Vec3 r = start - axis_point;
+  const Vec3 foot = axis_point + r.dot(axis) * axis;
+  return foot + Eigen::AngleAxisd(angle, axis) * (start - foot) +
+         pitch * angle / (2.0 * M_PI) * axis;
+}
+
+double Beam::length() const {
+  if (arc) return arc->length();
+  double l = 0.0;
+  for (std::size_t k = 1; k < points.size(); ++k) l += (points[k] - points[k - 1]).norm();
+  return l;
+}
+
 bool has_material_damping(const Model& m) {
   if (m.solver.analysis != Analysis::dynamic) return false;
   for (const KLShell& s : m.kl_shells)

@@ -129,14 +129,30 @@ struct BeamSection {
   double eta = 0;  // Kelvin–Voigt damping factor η (s): resultant rates η C (Γ̇, K̇)
 };
 
-// A beam along a polyline, meshed with two-node elements; its nodes are frame nodes named
-// "<name>[i]" (i = 0 … node_count() − 1, counted along the polyline) wherever a body name is
-// expected (joints, loads, probes).
+// A circular arc or a helix: `start` turned about the axis through `axis_point` along `axis` by
+// θ ∈ [0, angle] (radians, right-handed), rising `pitch` along the axis per turn
+// (elements::helix_beam_nodes).
+struct BeamArc {
+  Vec3 axis_point = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();  // unit
+  Vec3 start = Vec3::Zero();
+  double angle = 0;  // > 0
+  double pitch = 0;
+  double radius() const;
+  double length() const;  // angle · √(R² + (pitch/2π)²)
+  Vec3 end() const;
+};
+
+// A beam along a polyline or an arc/helix, meshed with two-node elements; its nodes are frame
+// nodes named "<name>[i]" (i = 0 … node_count() − 1, counted along the centreline) wherever a
+// body name is expected (joints, loads, probes).
 struct Beam {
   std::string name;
-  std::vector<Vec3> points;   // polyline vertices, global at t = 0 (at least 2)
-  std::vector<int> elements;  // elements per segment (points.size() − 1 entries, each ≥ 1)
-  Vec3 d1 = Vec3::UnitZ();    // direction of the director d₁ (made orthogonal to each segment)
+  std::vector<Vec3> points;    // polyline vertices, global at t = 0 (at least 2); empty for an arc
+  std::optional<BeamArc> arc;  // the curved centreline instead of the polyline
+  std::vector<int> elements;  // elements per segment (points.size() − 1 entries, each ≥ 1; one for
+                              // an arc)
+  Vec3 d1 = Vec3::UnitZ();  // direction of the director d₁ (made orthogonal to each segment)
   BeamSection section;
   // Cross-section of the cuboids drawn in the VTK output, along d₁ and d₂; 0: 1/50 of the length.
   double draw_width = 0, draw_height = 0;
@@ -157,6 +173,8 @@ struct Beam {
     for (int e : elements) n += e;
     return n;
   }
+  Vec3 start_point() const { return arc ? arc->start : points.front(); }
+  double length() const;  // of the reference centreline
 };
 
 // A dead load per unit reference length on a whole beam, global components as time functions.

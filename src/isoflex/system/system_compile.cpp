@@ -161,6 +161,10 @@ void System::add_beams(Build& build) {
     // too flexible (+3.9 % tip deflection at a 45° corner, Newton failing at 90°).
     std::vector<std::optional<Mat3>> corner_triad;
     try {
+      if (B.arc)
+        q = elements::helix_beam_nodes(B.arc->axis_point, B.arc->axis, B.arc->start, B.arc->angle,
+                                       B.arc->pitch, B.d1, B.elements.front());
+      corner_triad.resize(q.size());
       for (std::size_t seg = 0; seg + 1 < B.points.size(); ++seg) {
         const auto part =
             elements::straight_beam_nodes(B.points[seg], B.points[seg + 1], B.d1, B.elements[seg]);
@@ -1059,7 +1063,7 @@ void System::set_initial_velocities(const model::Model& model) {
   for (std::size_t b = 0; b < model.beams.size(); ++b) {
     const model::Beam& B = model.beams[b];
     const std::vector<int>& nodes = beams_[b].nodes;
-    const Vec3 p = B.velocity_point.value_or(B.points.front());
+    const Vec3 p = B.velocity_point.value_or(B.start_point());
     for (int i : nodes) {
       const Vec3 x = q0_.segment<3>(q_offset(i));
       t_given.segment<3>(6 * i) = B.velocity + B.angular_velocity.cross(x - p);
