@@ -99,7 +99,7 @@ TEST(KLShellReader, ReadsShellsSupportsLoadsAndProbes) {
 TEST(KLShellReader, LocatedErrors) {
   EXPECT_EQ(error_of(kl_model("    thickness: 1\n")),
             "m.yaml:13: kl_shells[0].thickness: unknown key (valid keys: name, surface, material, "
-            "quadrature, seam)");
+            "quadrature, seam, velocity, angular_velocity, velocity_point, node_velocities)");
   // Missing material.
   EXPECT_EQ(error_of("surfaces:\n  - name: cyl\n"
                      "    builtin: {type: cylinder_sector, radius: 2, length: 3, angle: 90}\n"

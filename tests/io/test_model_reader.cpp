@@ -790,7 +790,7 @@ TEST(ModelReader, BeamErrors) {
             "crank[3])");
   // unknown keys
   EXPECT_EQ(error_of(with_beam({"    radius: 1"})),
-            "m.yaml:7: beams[0].radius: unknown key (valid keys: name, points, elements, d1, "
+            "m.yaml:7: beams[0].radius: unknown key (valid keys: name, points, arc, elements, d1, "
             "section, draw, velocity, angular_velocity, velocity_point, node_velocities)");
   // initial velocities of the nodes: a node index out of range names the beam's nodes
   EXPECT_EQ(error_of(with_beam({"    node_velocities: [{node: 100000, velocity: [1, 0, 0]}]"})),

@@ -47,7 +47,9 @@ std::vector<model::KLShell> KLShellReader::shells(
 model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
                                     const std::vector<model::Surface>& surfaces) const {
   expect_map(n, p);
-  check_keys(n, p, {"name", "surface", "material", "quadrature", "seam"});
+  check_keys(n, p,
+             {"name", "surface", "material", "quadrature", "seam", "velocity", "angular_velocity",
+              "velocity_point", "node_velocities"});
   model::KLShell s;
   s.source = source(n);
   const YAML::Node name = require(n, p, "name");
@@ -102,6 +104,8 @@ model::KLShell KLShellReader::shell(const YAML::Node& n, const std::string& p,
                "they stay apart, a slit)");
     s.open_seam = v == "open";
   }
+  s.initial = node_velocities(n, p, static_cast<int>(g.points.size()),
+                              fmt::format("kl_shell \"{}\"", s.name));
   return s;
 }
 

@@ -494,34 +494,6 @@ class Reader : YamlFields {
     return fmt::format("{}[{}]", beam, index);
   }
 
-  // The initial velocities of a beam's nodes (model::Beam): a rigid field and per-node values.
-  void read_beam_velocities(const YAML::Node& n, const std::string& p, model::Beam& b) const {
-    if (const auto v = n["velocity"]) b.velocity = vec3(v, join(p, "velocity"));
-    if (const auto v = n["angular_velocity"])
-      b.angular_velocity = vec3(v, join(p, "angular_velocity"));
-    if (const auto v = n["velocity_point"]) b.velocity_point = vec3(v, join(p, "velocity_point"));
-    const YAML::Node list = n["node_velocities"];
-    if (!list) return;
-    const std::string key = join(p, "node_velocities");
-    if (!list.IsSequence())
-      fail(list, key, "expected a list of {node, velocity, angular_velocity}");
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      const std::string e = indexed(key, k);
-      expect_map(list[k], e);
-      check_keys(list[k], e, {"node", "velocity", "angular_velocity"});
-      model::Beam::NodeVelocity nv;
-      const YAML::Node node = require(list[k], e, "node");
-      nv.node = integer(node, join(e, "node"), 0);
-      if (nv.node >= b.node_count())
-        fail(node, join(e, "node"),
-             fmt::format("beam \"{}\" has nodes 0 … {}", b.name, b.node_count() - 1));
-      if (const auto v = list[k]["velocity"]) nv.velocity = vec3(v, join(e, "velocity"));
-      if (const auto v = list[k]["angular_velocity"])
-        nv.angular_velocity = vec3(v, join(e, "angular_velocity"));
-      b.node_velocities.push_back(nv);
-    }
-  }
-
   // A polyline: `points`, `elements` per segment, `d1` not parallel to any segment.
   void read_beam_polyline(const YAML::Node& n, const std::string& p, model::Beam& b) const {
     const YAML::Node points = n["points"];
@@ -658,7 +630,7 @@ class Reader : YamlFields {
       read_beam_arc(n, p, b);
     else
       read_beam_polyline(n, p, b);
-    read_beam_velocities(n, p, b);
+    b.initial = node_velocities(n, p, b.node_count(), fmt::format("beam \"{}\"", b.name));
     b.section = read_section(require(n, p, "section"), join(p, "section"));
     if (const auto v = n["draw"]) {
       const std::string dp = join(p, "draw");

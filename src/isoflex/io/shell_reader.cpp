@@ -77,7 +77,9 @@ std::vector<model::Shell> ShellReader::shells(const YAML::Node& list,
 model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
                                 const std::vector<model::Surface>& surfaces) const {
   expect_map(n, p);
-  check_keys(n, p, {"name", "material", "plate", "surface", "elements", "mesh"});
+  check_keys(n, p,
+             {"name", "material", "plate", "surface", "elements", "mesh", "velocity",
+              "angular_velocity", "velocity_point", "node_velocities"});
   model::Shell s;
   const YAML::Node name = require(n, p, "name");
   s.name = string(name, join(p, "name"));
@@ -216,6 +218,7 @@ model::Shell ShellReader::shell(const YAML::Node& n, const std::string& p,
     fail(n["elements"], join(p, "elements"), "only used with surface (a plate has its own)");
   relative_size(m["thickness"], join(mp, "thickness"), s.material.thickness,
                 bounding_box_diagonal(s.points), "the bounding box of the shell's nodes");
+  s.initial = node_velocities(n, p, s.node_count(), fmt::format("shell \"{}\"", s.name));
   return s;
 }
 

@@ -186,4 +186,32 @@ std::array<std::string, 3> YamlFields::time_functions(const YAML::Node& n,
   return f;
 }
 
+model::NodeVelocities YamlFields::node_velocities(const YAML::Node& n, const std::string& p,
+                                                  int node_count, const std::string& what) const {
+  model::NodeVelocities out;
+  if (const auto v = n["velocity"]) out.velocity = vec3(v, join(p, "velocity"));
+  if (const auto v = n["angular_velocity"])
+    out.angular_velocity = vec3(v, join(p, "angular_velocity"));
+  if (const auto v = n["velocity_point"]) out.velocity_point = vec3(v, join(p, "velocity_point"));
+  const YAML::Node list = n["node_velocities"];
+  if (!list) return out;
+  const std::string key = join(p, "node_velocities");
+  if (!list.IsSequence()) fail(list, key, "expected a list of {node, velocity, angular_velocity}");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string e = indexed(key, k);
+    expect_map(list[k], e);
+    check_keys(list[k], e, {"node", "velocity", "angular_velocity"});
+    model::NodeVelocities::Node nv;
+    const YAML::Node node = require(list[k], e, "node");
+    nv.node = integer(node, join(e, "node"), 0);
+    if (nv.node >= node_count)
+      fail(node, join(e, "node"), fmt::format("{} has nodes 0 … {}", what, node_count - 1));
+    if (const auto v = list[k]["velocity"]) nv.velocity = vec3(v, join(e, "velocity"));
+    if (const auto v = list[k]["angular_velocity"])
+      nv.angular_velocity = vec3(v, join(e, "angular_velocity"));
+    out.nodes.push_back(nv);
+  }
+  return out;
+}
+
 }  // namespace isoflex::io

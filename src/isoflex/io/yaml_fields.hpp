@@ -69,6 +69,11 @@ class YamlFields {
   // validate it; three of them as a list.
   std::string time_function(const YAML::Node& n, const std::string& key) const;
   std::array<std::string, 3> time_functions(const YAML::Node& n, const std::string& key) const;
+  // The initial velocities of a beam's or shell's nodes from the keys `velocity`,
+  // `angular_velocity`, `velocity_point` and `node_velocities` of the entry `n` at `path`;
+  // `what` ("beam \"b\"") names it in the message for a node index out of 0 … node_count − 1.
+  model::NodeVelocities node_velocities(const YAML::Node& n, const std::string& path,
+                                        int node_count, const std::string& what) const;
 
  private:
   std::string file_;

@@ -129,6 +129,20 @@ struct BeamSection {
   double eta = 0;  // Kelvin–Voigt damping factor η (s): resultant rates η C (Γ̇, K̇)
 };
 
+// Initial velocities of the nodes of a beam or a shell: the rigid field
+// v(x) = velocity + angular_velocity × (x − velocity_point) at every node (and ω =
+// angular_velocity for a node with directors), then per-node values that replace it at their
+// nodes (node index as in NAME[k]; all global).
+struct NodeVelocities {
+  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+  std::optional<Vec3> velocity_point;
+  struct Node {
+    int node = 0;
+    Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+  };
+  std::vector<Node> nodes;
+};
+
 // A circular arc or a helix: `start` turned about the axis through `axis_point` along `axis` by
 // θ ∈ [0, angle] (radians, right-handed), rising `pitch` along the axis per turn
 // (elements::helix_beam_nodes).
@@ -156,16 +170,7 @@ struct Beam {
   BeamSection section;
   // Cross-section of the cuboids drawn in the VTK output, along d₁ and d₂; 0: 1/50 of the length.
   double draw_width = 0, draw_height = 0;
-  // Initial velocities: the rigid field v(x) = velocity + angular_velocity × (x − velocity_point)
-  // at every node (velocity_point: default the first vertex), then per-node values that replace it
-  // at their nodes (node index along the beam; both global).
-  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
-  std::optional<Vec3> velocity_point;
-  struct NodeVelocity {
-    int node = 0;
-    Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
-  };
-  std::vector<NodeVelocity> node_velocities;
+  NodeVelocities initial;  // velocity_point default: the first node
   Source source;
 
   int node_count() const {
@@ -204,6 +209,7 @@ struct Shell {
   std::vector<std::array<int, 4>> quads;  // counter-clockwise seen from the directors' side
   int grid_u = 0, grid_v = 0;             // elements along u and v; 0: unstructured
   ShellMaterial material;
+  NodeVelocities initial;  // velocity_point default: node 0
   Source source;
 
   int node_count() const { return static_cast<int>(points.size()); }
@@ -340,6 +346,9 @@ struct KLShell {
   // `seam: open`: two edges of the patch that coincide (a closed patch, e.g. an annulus of 360°)
   // are not joined — the slit annulus of Sze et al. 2004. Default `joined`.
   bool open_seam = false;
+  // At the control points (the rigid field moves the whole surface rigidly: NURBS are affine
+  // invariant); velocity_point default: control point 0.
+  NodeVelocities initial;
   Source source;
 };
 

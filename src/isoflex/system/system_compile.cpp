@@ -1054,26 +1054,52 @@ SpMat System::modulo_linear_conditions(const SpMat& G) const {
 // given body velocities, within the null space of the loop-closing rows — or, with rheonomic
 // rows, within the affine space G_cut P_tree ν = ḋ(0), the rate of their right-hand sides.
 void System::set_initial_velocities(const model::Model& model) {
-  VecX t_given = VecX::Zero(6 * node_count());  // shell nodes start at rest
+  VecX t_given = VecX::Zero(6 * node_count());
   for (int i = 0; i < static_cast<int>(model.bodies.size()); ++i) {
     t_given.segment<3>(6 * i) = model.bodies[i].velocity;
     t_given.segment<3>(6 * i + 3) = model.bodies[i].angular_velocity;
   }
-  // Beams: the rigid field v + ω × (x − p) at every node, then the per-node values.
-  for (std::size_t b = 0; b < model.beams.size(); ++b) {
-    const model::Beam& B = model.beams[b];
-    const std::vector<int>& nodes = beams_[b].nodes;
-    const Vec3 p = B.velocity_point.value_or(B.start_point());
-    for (int i : nodes) {
-      const Vec3 x = q0_.segment<3>(q_offset(i));
-      t_given.segment<3>(6 * i) = B.velocity + B.angular_velocity.cross(x - p);
-      t_given.segment<3>(6 * i + 3) = B.angular_velocity;
+  // Beams and shells: the rigid field v + ω × (x − p) at every node, then the per-node values. A
+  // director node takes only the part of ω that turns its director (the spin about d moves
+  // nothing), a point node (a control point) none, so that a rigid field is admissible as given.
+  const auto set_twist = [&](int i, const Vec3& v, const Vec3& w) {
+    t_given.segment<3>(6 * i) = v;
+    const VecX qi = q0_.segment(q_offset(i), node_type(i).coordinates());
+    switch (node_kind(i)) {
+      case NodeKind::frame:
+        t_given.segment<3>(6 * i + 3) = w;
+        break;
+      case NodeKind::director: {
+        const Vec3 d = qi.segment<3>(3);
+        t_given.segment<3>(6 * i + 3) = w - w.dot(d) * d;
+        break;
+      }
+      case NodeKind::point:
+        break;
     }
-    for (const auto& nv : B.node_velocities) {
-      const int i = nodes[static_cast<std::size_t>(nv.node)];
-      t_given.segment<3>(6 * i) = nv.velocity;
-      t_given.segment<3>(6 * i + 3) = nv.angular_velocity;
-    }
+  };
+  const auto set_field = [&](const model::NodeVelocities& f, const std::vector<int>& nodes,
+                             const Vec3& first) {
+    const Vec3 p = f.velocity_point.value_or(first);
+    for (int i : nodes)
+      set_twist(i, f.velocity + f.angular_velocity.cross(q0_.segment<3>(q_offset(i)) - p),
+                f.angular_velocity);
+    for (const auto& nv : f.nodes)
+      set_twist(nodes[static_cast<std::size_t>(nv.node)], nv.velocity, nv.angular_velocity);
+  };
+  for (std::size_t b = 0; b < model.beams.size(); ++b)
+    set_field(model.beams[b].initial, beams_[b].nodes, model.beams[b].start_point());
+  for (std::size_t s = 0; s < model.shells.size(); ++s)
+    set_field(model.shells[s].initial, shells_[s].nodes, model.shells[s].points.front());
+  for (const model::KLShell& S : model.kl_shells) {
+    const KLPatchInstance& P = kl_patch_of(S.name);
+    if (P.renumbered && !S.initial.nodes.empty())
+      fail(S.source, "kl_shells",
+           fmt::format("node_velocities of \"{}\" name control points of its surface, but the "
+                       "patch was refined to join a neighbour and numbers them differently: give "
+                       "the rigid field (velocity, angular_velocity) only",
+                       S.name));
+    set_field(S.initial, P.nodes, q0_.segment<3>(q_offset(P.nodes.front())));
   }
   VecX rate;  // ḋ(0) of the cut rows, by a one-sided second-order difference (t ≥ 0 only)
   if (rheonomic_ && model.solver.analysis == model::Analysis::dynamic) {
