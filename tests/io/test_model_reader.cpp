@@ -283,6 +283,28 @@ TEST(ModelReader, MissingRequiredKey) {
             "m.yaml:7: loads[0]: at least one of force and moment is required");
 }
 
+// A load's `frame`: global components by default, `body` for a follower load (components along the
+// body's or node's directors); anything else is a located error.
+TEST(ModelReader, LoadFrame) {
+  const model::Model m =
+      read_model_string(with_bodies({"loads:", "  - {body: top, force: [1, 0, 0]}",
+                                     "  - {body: top, force: [1, 0, 0], frame: global}",
+                                     "  - {body: top, moment: [0, 0, 1], frame: body}"}),
+                        "m.yaml");
+  ASSERT_EQ(m.loads.size(), 3u);
+  EXPECT_EQ(m.loads[0].frame, model::LoadFrame::global);
+  EXPECT_EQ(m.loads[1].frame, model::LoadFrame::global);
+  EXPECT_EQ(m.loads[2].frame, model::LoadFrame::body);
+  EXPECT_EQ(
+      error_of(with_bodies({"loads:", "  - body: top", "    moment: [0, 0, 1]", "    frame: foo"})),
+      "m.yaml:9: loads[0].frame: unknown frame \"foo\" (valid: global, body)");
+  EXPECT_EQ(error_of(with_bodies({"loads:", "  - {body: top, force: [1, 0, 0], frame: Body}"})),
+            "m.yaml:7: loads[0].frame: unknown frame \"Body\" (valid: global, body)");
+  EXPECT_EQ(error_of(with_bodies(
+                {"loads:", "  - body: top", "    force: [1, 0, 0]", "    frame: [1, 0, 0]"})),
+            "m.yaml:9: loads[0].frame: expected a string");
+}
+
 // The step count t_end / dt (issue #15, found by tests/fuzz): more than 10⁸ steps, or a dynamic
 // run without a step, is a located error. Before, dt: 1e-30 ran 0 steps (lround overflowed) and
 // reported "completed", and t_end: 1e12 wrapped around int into a run of hundreds of millions of

@@ -1,7 +1,8 @@
-// The load contract (loads/load.hpp) over every load kind: a body load, a director-node load and
-// a Kirchhoff–Love patch's loads (PatchLoadSet), a spring's actuator (LineActuator). For each: the
-// tangent given in its own pattern against central differences of generalized_force (followers), no
-// dependence on x and no tangent (dead loads), and the pattern's size.
+// The load contract (loads/load.hpp) over every load kind: a body load (global components or, a
+// follower, in the director frame), a director-node load and a Kirchhoff–Love patch's loads
+// (PatchLoadSet), a spring's actuator (LineActuator). For each: the tangent given in its own
+// pattern against central differences of generalized_force (followers), no dependence on x and no
+// tangent (dead loads), and the pattern's size.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -13,6 +14,7 @@
 #include "isoflex/geometry/builders.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
+#include "isoflex/loads/follower_body_load.hpp"
 #include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/loads/patch_load_set.hpp"
 #include "support/finite_difference.hpp"
@@ -73,6 +75,11 @@ std::vector<Case> cases() {
       {"patch follower pressure",
        std::make_shared<PatchLoadSet>(nodes, follower, MatX::Ones(3 * ncp, 3 * ncp).sparseView()),
        3 * ncp, true});
+  // A force at X and a moment with components in the director frame (follower).
+  out.push_back(
+      {"follower body force and moment",
+       std::make_shared<FollowerBodyLoad>(4, X, fn3("1", "2", "t"), fn3("0.5", "-1+t", "2*t")), 12,
+       true});
   // An actuator from a body point (frame node, body coordinates X) to a point node, F = 2 + t.
   Eigen::Matrix<double, 3, Eigen::Dynamic> D =
       Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 15);

@@ -902,7 +902,7 @@ class Reader : YamlFields {
 
   Load read_load(const YAML::Node& n, const std::string& p, std::size_t index) const {
     expect_map(n, p);
-    check_keys(n, p, {"name", "body", "force", "moment", "point", "point_local"});
+    check_keys(n, p, {"name", "body", "force", "moment", "frame", "point", "point_local"});
     Load l;
     l.source = source(n);
     if (const auto v = n["name"]) {
@@ -914,6 +914,13 @@ class Reader : YamlFields {
     if (const auto v = n["force"]) l.force = time_functions(v, join(p, "force"));
     if (const auto v = n["moment"]) l.moment = time_functions(v, join(p, "moment"));
     if (!l.force && !l.moment) fail(n, p, "at least one of force and moment is required");
+    if (const auto v = n["frame"]) {
+      const std::string name = string(v, join(p, "frame"));
+      if (name == "body")
+        l.frame = model::LoadFrame::body;
+      else if (name != "global")
+        fail(v, join(p, "frame"), "unknown frame \"" + name + "\" (valid: global, body)");
+    }
     read_point(n, p, l.point, l.point_local);
     return l;
   }

@@ -1,10 +1,11 @@
 #pragma once
 // The load contract (docs/architecture.md, "loads"): a prescribed external force on the stacked
 // coordinates x of a set of System nodes, of any node kind — a force and moment on a rigid body or
-// beam node (BodyLoad), on a director node (DirectorNodeLoad), the loads of a Kirchhoff–Love patch
-// on its control points (PatchLoadSet). System assembles them all by this one interface, for the
-// static residual ∇V − f_ext and, at (q_{n+½}, t_{n+½}), for the energy–momentum step (DNSM-III
-// (9): the external forces enter the discrete balance at the midpoint).
+// beam node (BodyLoad; FollowerBodyLoad in its director frame), on a director node
+// (DirectorNodeLoad), the loads of a Kirchhoff–Love patch on its control points (PatchLoadSet).
+// System assembles them all by this one interface, for the static residual ∇V − f_ext and, at
+// (q_{n+½}, t_{n+½}), for the energy–momentum step (DNSM-III (9): the external forces enter the
+// discrete balance at the midpoint).
 //
 // A load whose force depends on x (a follower: a moment that turns with the directors, a pressure
 // on the current normal) has a tangent, given like an element's matrices as values in the

@@ -107,6 +107,10 @@ struct Bushing {
   Source source;
 };
 
+// The frame of a load's components: global (a dead direction), or the body's (node's) director
+// frame d₁, d₂, d₃ (a follower load, loads/follower_body_load.hpp).
+enum class LoadFrame { global, body };
+
 // A force and/or moment on a body, each component a time function written as an expression in t
 // (muParser syntax, e.g. "1000*sin(pi*t)*(t<=2)"). The force acts at a material point given
 // globally at t = 0 (`point`) or in body coordinates (`point_local`); default the centre of mass.
@@ -115,6 +119,7 @@ struct Load {
   std::string body;
   std::optional<std::array<std::string, 3>> force;
   std::optional<std::array<std::string, 3>> moment;
+  LoadFrame frame = LoadFrame::global;
   std::optional<Vec3> point;
   std::optional<Vec3> point_local;
   Source source;

@@ -20,6 +20,7 @@
 #include "isoflex/joints/quadratic_rows.hpp"
 #include "isoflex/loads/body_load.hpp"
 #include "isoflex/loads/director_node_load.hpp"
+#include "isoflex/loads/follower_body_load.hpp"
 #include "isoflex/loads/patch_edge.hpp"
 #include "isoflex/loads/time_function.hpp"
 #include "isoflex/math/director_node.hpp"
@@ -271,7 +272,8 @@ void System::assemble_mass() {
   M_.setFromTriplets(t.begin(), t.end());
 }
 
-// Loads on bodies and beam nodes (loads/body_load.hpp).
+// Loads on bodies and beam nodes: global components (loads/body_load.hpp) or components in the
+// node's director frame (frame: body, loads/follower_body_load.hpp).
 void System::add_body_loads(Build& build) {
   const model::Model& model = build.model;
   for (std::size_t l = 0; l < model.loads.size(); ++l) {
@@ -297,8 +299,14 @@ void System::add_body_loads(Build& build) {
       }
       return f;
     };
-    loads_.push_back(std::make_shared<loads::BodyLoad>(node, X, compile3(L.force, "force"),
-                                                       compile3(L.moment, "moment")));
+    auto force = compile3(L.force, "force");
+    auto moment = compile3(L.moment, "moment");
+    if (L.frame == model::LoadFrame::body)
+      loads_.push_back(
+          std::make_shared<loads::FollowerBodyLoad>(node, X, std::move(force), std::move(moment)));
+    else
+      loads_.push_back(
+          std::make_shared<loads::BodyLoad>(node, X, std::move(force), std::move(moment)));
   }
 }
 
