@@ -78,6 +78,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   enum class Predictor { extrapolated, at_rest, secant };
   VecX start_unknowns(const State& s, double dt, Predictor p) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
+  double residual_scale(const State& s, double dt) const;
   StepStats attempt(State& s, double dt) const;
   // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
   // b = −R placed at rows [row, row + R.size()).
