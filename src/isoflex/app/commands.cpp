@@ -534,7 +534,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
   // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
-  // actuators: energy + dissipated energy − their work).
+  // actuators: energy + dissipated energy − their work; with joint drivers also − theirs).
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
                             m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
@@ -576,10 +576,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)
-      sum.max_energy_drift_after_loads = std::max(
-          sum.max_energy_drift_after_loads, std::abs(snap.total_energy + snap.dissipated_energy -
-                                                     snap.external_work - sum.energy_initial) /
-                                                std::max(std::abs(sum.energy_initial), 1e-300));
+      sum.max_energy_drift_after_loads =
+          std::max(sum.max_energy_drift_after_loads,
+                   std::abs(snap.total_energy + snap.dissipated_energy - snap.external_work -
+                            snap.driver_work - sum.energy_initial) /
+                       std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
     throw_if_interrupted();
   };
@@ -704,6 +705,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.energy_final = snap.total_energy;
   if (model::has_material_damping(m)) sum.dissipated_energy = snap.dissipated_energy;
   if (model::has_external_loads(m)) sum.external_work = snap.external_work;
+  if (model::has_drivers(m)) sum.driver_work = snap.driver_work;
   sum.probes = snap.probes;
   try {
     io::write_summary_json(outdir / "summary.json", sum);
