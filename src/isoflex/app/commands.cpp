@@ -466,8 +466,9 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
     fmt::print(out, "warning          {}\n", w);
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
-               "warning          initial velocities violate the joints; projected (relative change "
-               "{:.3g})\n",
+               "warning          initial velocities violate the joints{}; projected (relative "
+               "change {:.3g})\n",
+               sys.rheonomic() ? " (or the rates of the prescribed motions at t = 0)" : "",
                sys.initial_velocity_projection_error());
   fmt::print(out, "joint forest\n{}", sys.describe_forest(l->model));
   return 0;
@@ -545,9 +546,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.initial_velocity_projection = sys.initial_velocity_projection_error();
     if (*sum.initial_velocity_projection > 1e-9)
       fmt::print(err,
-                 "warning: the initial velocities violate the joints; the run starts from the "
+                 "warning: the initial velocities violate the joints{}; the run starts from the "
                  "nearest admissible ones (relative change {:.3g}, summary.json "
                  "initial_velocity_projection)\n",
+                 sys.rheonomic() ? " (or the rates of the prescribed motions at t = 0)" : "",
                  *sum.initial_velocity_projection);
   }
 
