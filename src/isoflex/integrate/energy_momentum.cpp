@@ -54,6 +54,7 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
   set_joint_reactions(true);
+  for (const auto& J : sys.joints()) drivers_ = drivers_ || J.driver >= 0 || J.rows->rheonomic();
   const double mean_mass = sys.mass().diagonal().sum() / std::max(1, sys.n());
   constraint_scale_ = (2.0 / settings.dt) * (mean_mass > 0.0 ? mean_mass : 1.0);
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
@@ -396,10 +397,10 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const VecX q1 = configuration(c, x);
   // Prescribed motions (rheonomic rows Φ(q) = d(t), held at t_{n+1}): the constraint forces
   // G̃ᵀλ add −λ·(d(tₙ₊₁) − d(tₙ)) to the energy in the step, exactly (G̃ Δq = ΔΦ; DNSM-III (9)
-  // with a right-hand side): the drivers' work.
-  const bool driven = sys_.rheonomic();
-  if (reactions_ || driven) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
-  if (driven && s.lambda.size() == sys_.m_selected()) {
+  // with a right-hand side): the drivers' work, summed wherever the step's λ is recovered (joint
+  // drivers, or reactions written).
+  if (reactions_ || drivers_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
+  if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
     const VecX dd = sys_.prescribed(s.t + c.dt) - sys_.prescribed(s.t);
     for (int p = 0; p < sys_.m_selected(); ++p)
       s.driver_work -= s.lambda(p) * dd(sys_.selected_rows()[static_cast<std::size_t>(p)]);

@@ -46,7 +46,8 @@ struct State {
   // The work of the prescribed motions (joint drivers, moving supports: the rheonomic rows
   // Φ(q) = d(t)) since t = 0: the energy–momentum schemes add −λ·(d(tₙ₊₁) − d(tₙ)) over the
   // selected rows, λ the step's multipliers, exactly what the constraint forces G̃ᵀλ add to the
-  // energy (system/joint_drivers.hpp); the DAE schemes the trapezoidal rule of the power −λ·ḋ.
+  // energy (system/joint_drivers.hpp), in every step of a model with joint drivers (and where
+  // the reactions are recovered); the DAE schemes the trapezoidal rule of the power −λ·ḋ.
   double driver_work = 0.0;
 };
 
