@@ -466,8 +466,9 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
     fmt::print(out, "warning          {}\n", w);
   if (sys.initial_velocity_projection_error() > 1e-9)
     fmt::print(out,
-               "warning          initial velocities violate the joints; projected (relative change "
-               "{:.3g})\n",
+               "warning          initial velocities violate the joints{}; projected (relative "
+               "change {:.3g})\n",
+               sys.rheonomic() ? " (or the rates of the prescribed motions at t = 0)" : "",
                sys.initial_velocity_projection_error());
   fmt::print(out, "joint forest\n{}", sys.describe_forest(l->model));
   return 0;
@@ -534,7 +535,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
   // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
-  // actuators: energy + dissipated energy − their work).
+  // actuators: energy + dissipated energy − their work; with joint drivers also − theirs).
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&
                             m.shell_loads.empty() && m.kl_loads.empty();
   sum.max_energy_drift_after_loads = conservative ? 0.0 : std::nan("");
@@ -545,9 +546,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.initial_velocity_projection = sys.initial_velocity_projection_error();
     if (*sum.initial_velocity_projection > 1e-9)
       fmt::print(err,
-                 "warning: the initial velocities violate the joints; the run starts from the "
+                 "warning: the initial velocities violate the joints{}; the run starts from the "
                  "nearest admissible ones (relative change {:.3g}, summary.json "
                  "initial_velocity_projection)\n",
+                 sys.rheonomic() ? " (or the rates of the prescribed motions at t = 0)" : "",
                  *sum.initial_velocity_projection);
   }
 
@@ -576,10 +578,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)
-      sum.max_energy_drift_after_loads = std::max(
-          sum.max_energy_drift_after_loads, std::abs(snap.total_energy + snap.dissipated_energy -
-                                                     snap.external_work - sum.energy_initial) /
-                                                std::max(std::abs(sum.energy_initial), 1e-300));
+      sum.max_energy_drift_after_loads =
+          std::max(sum.max_energy_drift_after_loads,
+                   std::abs(snap.total_energy + snap.dissipated_energy - snap.external_work -
+                            snap.driver_work - sum.energy_initial) /
+                       std::max(std::abs(sum.energy_initial), 1e-300));
     outputs->snapshot(snap);
     throw_if_interrupted();
   };
@@ -704,6 +707,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.energy_final = snap.total_energy;
   if (model::has_material_damping(m)) sum.dissipated_energy = snap.dissipated_energy;
   if (model::has_external_loads(m)) sum.external_work = snap.external_work;
+  if (model::has_drivers(m)) sum.driver_work = snap.driver_work;
   sum.probes = snap.probes;
   try {
     io::write_summary_json(outdir / "summary.json", sum);

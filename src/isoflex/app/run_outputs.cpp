@@ -26,8 +26,9 @@ std::string path_column(const model::Model& m) {
 RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
                        std::FILE* progress) {
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv, reactions.csv
-    observers_.push_back(std::make_unique<io::HistoryWriter>(
-        outdir, model::has_material_damping(m), path_column(m), model::has_external_loads(m)));
+    observers_.push_back(
+        std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m), path_column(m),
+                                            model::has_external_loads(m), model::has_drivers(m)));
     observers_.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ForcesWriter>(outdir, m));

@@ -281,6 +281,7 @@ Snapshot CoSimulation::snapshot(const StepStats& st) const {
   out.potential_energy += b.potential_energy;
   out.dissipated_energy += b.dissipated_energy;
   out.external_work += b.external_work;
+  out.driver_work += b.driver_work;
   out.linear_momentum += b.linear_momentum;
   out.angular_momentum += b.angular_momentum;
   out.constraint_violation = std::max(a.constraint_violation, b.constraint_violation);

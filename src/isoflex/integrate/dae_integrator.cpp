@@ -69,8 +69,8 @@ void DaeIntegrator::consistent_start(State& s) const {
   VecX f = sys_.static_force(s.q, s.t, nullptr);
   if (sys_.viscous()) f += sys_.viscous_force(s.q, s.v, 0, 0, nullptr);
   const SpMat G = sys_.jacobian(s.q);
-  // G is affine in q (rows at most quadratic), so (G(q + v) − G(q)) v = (vᵀ∇²Φᵢ v)ᵢ exactly.
-  VecX rhs_c = -((sys_.jacobian(s.q + s.v) - G) * s.v);
+  // G q̈ = d̈ − (vᵀ∇²Φᵢ v)ᵢ (exact for the rows at most quadratic and a driven angle alike).
+  VecX rhs_c = -sys_.constraint_curvature(s.q, s.v);
   if (sys_.rheonomic()) {
     // d̈(t) = −∂²/∂t² [Φ(q) − d(t)], one-sided and second order (t ≥ 0 only).
     const double h = 1e-2 * settings_.dt;
@@ -224,6 +224,14 @@ StepStats DaeIntegrator::attempt(State& s, double h) const {
     const double power0 = sys_.external_force(s.q, s.t).dot(s.v);
     const double power1 = sys_.external_force(q, t1).dot(v1);
     s.external_work += 0.5 * h * (power0 + power1);
+  }
+  if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
+    // The trapezoidal rule of the prescribed motions' power −λ·ḋ, with ḋ·h ≈ d(tₙ₊₁) − d(tₙ).
+    const VecX dd = sys_.prescribed(t1) - sys_.prescribed(s.t);
+    const VecX lambda1 = lambda_hat * (sigma / c);
+    for (int p = 0; p < sys_.m_selected(); ++p)
+      s.driver_work -=
+          0.5 * (s.lambda(p) + lambda1(p)) * dd(sys_.selected_rows()[static_cast<std::size_t>(p)]);
   }
   sys_.accept(q);
   if (settings_.integrator == I::generalized_alpha)

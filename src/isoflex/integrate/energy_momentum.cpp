@@ -54,6 +54,7 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
                                                    const model::Solver& settings, ReducedSolve how)
     : sys_(sys), settings_(settings) {
   set_joint_reactions(true);
+  for (const auto& J : sys.joints()) drivers_ = drivers_ || J.driver >= 0 || J.rows->rheonomic();
   const double mean_mass = sys.mass().diagonal().sum() / std::max(1, sys.n());
   constraint_scale_ = (2.0 / settings.dt) * (mean_mass > 0.0 ? mean_mass : 1.0);
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
@@ -420,7 +421,16 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   }
   st.iterations += spent;
   const VecX q1 = configuration(c, x);
-  if (reactions_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
+  // Prescribed motions (rheonomic rows Φ(q) = d(t), held at t_{n+1}): the constraint forces
+  // G̃ᵀλ add −λ·(d(tₙ₊₁) − d(tₙ)) to the energy in the step, exactly (G̃ Δq = ΔΦ; DNSM-III (9)
+  // with a right-hand side): the drivers' work, summed wherever the step's λ is recovered (joint
+  // drivers, or reactions written).
+  if (reactions_ || drivers_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
+  if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
+    const VecX dd = sys_.prescribed(s.t + c.dt) - sys_.prescribed(s.t);
+    for (int p = 0; p < sys_.m_selected(); ++p)
+      s.driver_work -= s.lambda(p) * dd(sys_.selected_rows()[static_cast<std::size_t>(p)]);
+  }
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.last_dt = dt;
@@ -469,6 +479,7 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
   out.total_energy = out.kinetic_energy + out.potential_energy;
   out.dissipated_energy = s.dissipated;
   out.external_work = s.external_work;
+  out.driver_work = s.driver_work;
   out.linear_momentum = sys_.linear_momentum(s.v);
   out.angular_momentum = sys_.angular_momentum(s.q, s.v);
   out.constraint_violation = sys_.constraints(s.q, s.t).lpNorm<Eigen::Infinity>();
@@ -515,7 +526,8 @@ Snapshot snapshot(const system::System& sys_, const State& s, const StepStats& s
   }
   if (s.lambda.size() == sys_.m_selected() && sys_.m_selected() > 0)
     for (const auto& r : system::joint_reactions(sys_, s.q, s.lambda))
-      out.reactions.push_back({r.joint, r.point, r.force, r.moment, r.force_local, r.moment_local});
+      out.reactions.push_back(
+          {r.joint, r.point, r.force, r.moment, r.force_local, r.moment_local, r.driver});
   for (const auto& sp : sys_.springs()) {
     const auto& e = dynamic_cast<const elements::PointSpringDamper&>(
         *sys_.elements()[static_cast<std::size_t>(sp.element_index)]);

@@ -106,6 +106,9 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   model::Solver settings_;
   bool bordered_ = false;
   bool reactions_ = false;  // some joint between frame nodes: State::lambda after every step
+  // Joint drivers (system/joint_drivers.hpp): State::lambda and State::driver_work after every
+  // step, whether reactions are written or not.
+  bool drivers_ = false;
   // Rows Φ(q_{n+1}) = 0 of the reduced schemes are multiplied by (2/Δt)·(mean diagonal of M), the
   // scale of the rows 𝖯ᵀ(M(vₙ₊₁ − vₙ) + Δt f): the solution is unchanged and the condition
   // number of the Newton matrix no longer grows as Δt⁻¹ (docs/theory/schemes.md).

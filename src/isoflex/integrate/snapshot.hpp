@@ -3,6 +3,7 @@
 // writers (io/) and the progress display (app/) need nothing from system/ or integrate/ internals.
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct ReactionValue {
   Vec3 point = Vec3::Zero();
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
   Vec3 force_local = Vec3::Zero(), moment_local = Vec3::Zero();
+  // A driven revolute (prismatic) joint: the driving torque about (force along) the axis on
+  // body_b.
+  std::optional<double> driver;
 };
 
 // Stress resultants of one beam element (DNSM-III (69)): n = ∂W/∂Γ (shear along d₁, d₂; axial
@@ -81,6 +85,7 @@ struct Snapshot {
   double total_energy = 0.0;
   double dissipated_energy = 0.0;  // work of the viscous forces since t = 0 (State::dissipated)
   double external_work = 0.0;  // work of the loads and actuators since t = 0 (State::external_work)
+  double driver_work = 0.0;    // work of the prescribed motions since t = 0 (State::driver_work)
   Vec3 linear_momentum = Vec3::Zero();
   Vec3 angular_momentum = Vec3::Zero();  // about the global origin
   double constraint_violation = 0.0;     // max |Φ| over all constraints, internal and joints

@@ -43,6 +43,12 @@ struct State {
   // energy–momentum schemes add f_ext(q_{n+½}, t_{n+½})·Δq, exactly what their step adds to the
   // energy; the DAE schemes the trapezoidal rule of the power f_ext·q̇.
   double external_work = 0.0;
+  // The work of the prescribed motions (joint drivers, moving supports: the rheonomic rows
+  // Φ(q) = d(t)) since t = 0: the energy–momentum schemes add −λ·(d(tₙ₊₁) − d(tₙ)) over the
+  // selected rows, λ the step's multipliers, exactly what the constraint forces G̃ᵀλ add to the
+  // energy (system/joint_drivers.hpp), in every step of a model with joint drivers (and where
+  // the reactions are recovered); the DAE schemes the trapezoidal rule of the power −λ·ḋ.
+  double driver_work = 0.0;
 };
 
 struct StepStats {

@@ -89,15 +89,16 @@ void CsvFile::flush() {
 }
 
 HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
-                             const std::string& path_column, bool external_work)
-    : file_(
-          outdir / "history.csv",
-          (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
-           (external_work ? ",external_work" : "") + (path_column.empty() ? "" : "," + path_column))
-              .c_str()),
+                             const std::string& path_column, bool external_work, bool driver_work)
+    : file_(outdir / "history.csv",
+            (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
+             (external_work ? ",external_work" : "") + (driver_work ? ",driver_work" : "") +
+             (path_column.empty() ? "" : "," + path_column))
+                .c_str()),
       dissipated_(dissipated_energy),
       path_(!path_column.empty()),
-      work_(external_work) {}
+      work_(external_work),
+      driver_work_(driver_work) {}
 
 void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   const Vec3& p = s.linear_momentum;
@@ -110,6 +111,7 @@ void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
   if (dissipated_)
     fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.dissipated_energy);
   if (work_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.external_work);
+  if (driver_work_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.driver_work);
   if (path_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.path);
   file_.pending() += '\n';
   file_.flush();
@@ -176,18 +178,34 @@ void ForcesWriter::rows(const integrate::Snapshot& s, std::string& out) const {
                    csv_field(f.name), f.length, f.elongation, f.rate, f.force);
 }
 
+namespace {
+
+bool any_driver(const model::Model& model) {
+  return std::any_of(model.joints.begin(), model.joints.end(),
+                     [](const model::Joint& j) { return !j.driver.empty(); });
+}
+
+}  // namespace
+
 ReactionsWriter::ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model)
     : CsvRowsWriter(file_if(!model.joints.empty() || !model.kl_surface_joints.empty(),
                             outdir / "reactions.csv"),
-                    kReactionsHeader) {}
+                    (std::string(kReactionsHeader) + (any_driver(model) ? ",driver" : "")).c_str()),
+      driver_(any_driver(model)) {}
 
 void ReactionsWriter::rows(const integrate::Snapshot& s, std::string& out) const {
   const auto v = [](const Vec3& a) {
     return fmt::format("{:.17g},{:.17g},{:.17g}", a.x(), a.y(), a.z());
   };
-  for (const auto& r : s.reactions)
-    fmt::format_to(std::back_inserter(out), "{:.17g},{},{},{},{},{},{}\n", s.t, csv_field(r.joint),
+  for (const auto& r : s.reactions) {
+    fmt::format_to(std::back_inserter(out), "{:.17g},{},{},{},{},{},{}", s.t, csv_field(r.joint),
                    v(r.point), v(r.force), v(r.moment), v(r.force_local), v(r.moment_local));
+    if (driver_) {
+      out += ',';
+      if (r.driver) fmt::format_to(std::back_inserter(out), "{:.17g}", *r.driver);
+    }
+    out += '\n';
+  }
 }
 
 }  // namespace isoflex::io

@@ -64,9 +64,11 @@ class CsvFile {
 class HistoryWriter : public integrate::Observer {
  public:
   // path_column: the name of the path-parameter column, empty for none; external_work: the
-  // column of the work of the loads and actuators (after dissipated_energy).
+  // column of the work of the loads and actuators (after dissipated_energy); driver_work: the
+  // column of the work of the prescribed motions (after external_work).
   HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
-                const std::string& path_column = {}, bool external_work = false);
+                const std::string& path_column = {}, bool external_work = false,
+                bool driver_work = false);
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
@@ -75,6 +77,7 @@ class HistoryWriter : public integrate::Observer {
   bool dissipated_ = false;
   bool path_ = false;
   bool work_ = false;
+  bool driver_work_ = false;
 };
 
 // A CSV file of rows per snapshot: the writers below say which rows (none and no file when the
@@ -123,13 +126,15 @@ class ForcesWriter final : public CsvRowsWriter {
   void rows(const integrate::Snapshot& s, std::string& out) const override;
 };
 
-// outdir/reactions.csv when the model has joints.
+// outdir/reactions.csv when the model has joints; with joint drivers a last column `driver`
+// (the driving torque or force of a driven revolute or prismatic joint, empty for the others).
 class ReactionsWriter final : public CsvRowsWriter {
  public:
   ReactionsWriter(const std::filesystem::path& outdir, const model::Model& model);
 
  private:
   void rows(const integrate::Snapshot& s, std::string& out) const override;
+  bool driver_ = false;
 };
 
 }  // namespace isoflex::io

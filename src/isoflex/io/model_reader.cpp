@@ -715,7 +715,7 @@ class Reader : YamlFields {
     expect_map(n, p);
     check_keys(n, p,
                {"name", "type", "body_a", "body_b", "point", "point_a", "point_b", "axis", "axis_a",
-                "axis2", "axis2_b", "spring"});
+                "axis2", "axis2_b", "spring", "driver"});
     Joint j;
     j.source = source(n);
 
@@ -740,6 +740,10 @@ class Reader : YamlFields {
       if (n["spring"])
         fail(n["spring"], join(p, "spring"),
              "a spring is built for revolute and prismatic joints between bodies and beam nodes");
+      if (n["driver"])
+        fail(n["driver"], join(p, "driver"),
+             "a driver is built for joints between bodies and beam nodes (or the ground), not at "
+             "a point of a Kirchhoff–Love shell");
       read_kl_surface_joint(n, p, j, m, kl);
       return j;
     }
@@ -801,7 +805,48 @@ class Reader : YamlFields {
            fmt::format("not allowed for a {} joint (only universal)", type_name));
     }
     if (const auto v = n["spring"]) j.spring = read_joint_spring(v, join(p, "spring"), j.type);
+    if (const auto v = n["driver"]) {
+      if (control_point)
+        fail(v, join(p, "driver"),
+             "a driver is built for joints between bodies and beam nodes (or the ground), not "
+             "for a control point of a Kirchhoff–Love shell");
+      j.driver = read_joint_driver(v, join(p, "driver"), j);
+    }
     return j;
+  }
+
+  // A prescribed motion of a joint (system/joint_drivers.hpp): revolute: the angle θ(t) (rad),
+  // prismatic: the slide s(t), one time function each; spherical to the ground: the ground
+  // point's position, three. Whether θ(0), s(0) or the position at t = 0 fit the configuration
+  // is checked when the model is compiled (system).
+  std::vector<std::string> read_joint_driver(const YAML::Node& n, const std::string& p,
+                                             const Joint& j) const {
+    switch (j.type) {
+      case JointType::revolute:
+      case JointType::prismatic: {
+        const bool revolute = j.type == JointType::revolute;
+        if (!n.IsScalar())
+          fail(n, p,
+               fmt::format("expected one number or expression in t: the {} of the {} joint",
+                           revolute ? "angle θ(t) (rad)" : "slide s(t)", to_string(j.type)));
+        return {time_function(n, p)};
+      }
+      case JointType::spherical: {
+        if (j.body_a != "ground")
+          fail(n, p,
+               fmt::format("a spherical joint's driver moves its point on the ground: body_a must "
+                           "be ground, not \"{}\"",
+                           j.body_a));
+        const auto f = time_functions(n, p);
+        return {f.begin(), f.end()};
+      }
+      default:
+        fail(n, p,
+             fmt::format("a driver is built for revolute joints (the angle), prismatic joints "
+                         "(the slide) and spherical joints to the ground (the point's position), "
+                         "not {}",
+                         to_string(j.type)));
+    }
   }
 
   // A spring–damper in a revolute joint (free_angle, rad) or a prismatic one (free_length).

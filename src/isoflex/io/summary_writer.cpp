@@ -100,6 +100,7 @@ std::string summary_json(const RunSummary& s) {
   real("max_energy_drift_after_loads", s.max_energy_drift_after_loads);
   if (s.dissipated_energy) real("dissipated_energy", *s.dissipated_energy);
   if (s.external_work) real("external_work", *s.external_work);
+  if (s.driver_work) real("driver_work", *s.driver_work);
   if (s.initial_velocity_projection)
     real("initial_velocity_projection", *s.initial_velocity_projection);
   if (s.initial_equilibrium_load_steps)

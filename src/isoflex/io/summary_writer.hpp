@@ -34,6 +34,7 @@ struct RunSummary {
   // equilibrium the run started from (solver.initial_equilibrium).
   std::optional<double> dissipated_energy;
   std::optional<double> external_work;  // a dynamic run with loads: their work since t = 0
+  std::optional<double> driver_work;    // a dynamic run with joint drivers: their work since t = 0
   std::optional<int> initial_equilibrium_load_steps;
   // A dynamic run: the relative change ‖v₀ − v_given‖/max(1, ‖v_given‖) of the initial twists by
   // their projection onto the velocities the joints admit (0: the given ones were admissible).

@@ -45,6 +45,9 @@ class Constraint {
   // d(t) (constraint_count() entries), asked only when rheonomic().
   virtual bool rheonomic() const { return false; }
   virtual VecX prescribed(double /*t*/) const { return VecX::Zero(constraint_count()); }
+  // A converged configuration (System::accept, after every time or load step): rows with history
+  // keep it from here (the turns of a revolute joint's driven angle, system/joint_drivers.hpp).
+  virtual void accept(CRef /*q_c*/) const {}
 };
 
 }  // namespace isoflex::joints

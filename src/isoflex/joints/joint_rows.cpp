@@ -5,9 +5,11 @@
 
 namespace isoflex::joints {
 
-JointRows::JointRows(std::shared_ptr<const Joint> joint, int parent, int child, VecX ground)
+JointRows::JointRows(std::shared_ptr<const Joint> joint, int parent, int child, VecX ground,
+                     std::function<VecX(double)> d)
     : joint_(std::move(joint)),
       ground_(std::move(ground)),
+      d_(std::move(d)),
       na_(coordinate_count(joint_->parent_kind())),
       nb_(coordinate_count(joint_->child_kind())) {
   if (parent >= 0) nodes_.push_back(parent);

@@ -136,6 +136,13 @@ bool has_external_loads(const Model& m) {
                                 m.shell_loads.empty() && m.kl_loads.empty()));
 }
 
+bool has_drivers(const Model& m) {
+  if (m.solver.analysis != Analysis::dynamic) return false;
+  for (const Joint& j : m.joints)
+    if (!j.driver.empty()) return true;
+  return false;
+}
+
 std::string step_count_problem(const Solver& s) {
   // snprintf, not fmt: the model room depends on math and geometry only.
   char text[256];

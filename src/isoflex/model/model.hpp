@@ -91,6 +91,13 @@ struct Joint {
   std::string kl_shell;
   double xi = 0.0, eta = 0.0;
   std::optional<JointSpring> spring;  // revolute and prismatic joints
+  // A prescribed motion (joints `driver`; system/joint_drivers.hpp), time functions (muParser
+  // expressions in t): revolute: one, the angle θ(t) of b relative to a about the axis (rad,
+  // counted across turns, 0 in the configuration at t = 0, as a spring measures it); prismatic:
+  // one, the slide s(t) of b's joint point along the axis (0 at t = 0); spherical with body_a the
+  // ground: three, the position (x(t), y(t), z(t)) of the ground point that body_b's point
+  // follows (`point` at t = 0). Empty: none.
+  std::vector<std::string> driver;
   Source source;
 };
 
@@ -559,6 +566,9 @@ bool has_actuators(const Model& m);
 // Whether a dynamic run has external loads (loads, distributed_loads, shell_loads, kl_loads,
 // actuators): history.csv then gets `external_work`, their work since t = 0.
 bool has_external_loads(const Model& m);
+// Whether a dynamic run has joint drivers (joints `driver`): history.csv then gets
+// `driver_work`, the work of the prescribed motions since t = 0.
+bool has_drivers(const Model& m);
 // Number of constraints m and relative degrees of freedom r of a joint between two frame nodes.
 int joint_constraint_count(JointType t);
 

@@ -41,7 +41,7 @@ JointReaction node_reaction(const System& sys, const JointInstance& J, const Vec
   Vec3 M = Vec3::Zero();
   for (int k = 1; k < sys.coordinate_count(node) / 3; ++k)  // directors: d × f_d
     M += sign * Vec3(qn.segment<3>(3 * k)).cross(Vec3(f.segment<3>(o + 3 * k)));
-  return {J.name, qn.head<3>(), F, M, F, M};
+  return {J.name, qn.head<3>(), F, M, F, M, std::nullopt};
 }
 
 }  // namespace
@@ -71,7 +71,24 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     const frame_node::Q qn = use_parent ? qa : qb;
     const Vec3 X = use_parent ? g.X_A : g.X_B;
     const Mat3 C = use_parent ? g.C_A : g.C_B;
-    const Vec<12> fn = f.segment<12>(use_parent ? 0 : 12);
+    Vec<12> fn = f.segment<12>(use_parent ? 0 : 12);
+    // A driver row (an n-ary constraint over the non-ground nodes of body_a, body_b): its force
+    // on the same node.
+    std::optional<double> driving;
+    if (J.driver >= 0) {
+      const ConstraintInstance& D = sys.nary_constraints()[static_cast<std::size_t>(J.driver)];
+      const int row = D.row_offset;
+      const VecX lam_d = rows_multipliers(lambda, position, row, 1);
+      const VecX fd =
+          -(D.constraint->jacobian(sys.stacked(q, D.constraint->nodes())).transpose() * lam_d);
+      const int node_of_fn = use_parent ? J.parent : J.child;
+      int o = 0;
+      for (int a : D.constraint->nodes()) {
+        if (a == node_of_fn) fn += fd.segment<12>(o);
+        o += sys.coordinate_count(a);
+      }
+      driving = -lam_d(0);
+    }
     const Mat3 D = frame_node::directors(qn);
     const Vec3 phi = qn.head<3>();
     const Vec3 rho = D * X;
@@ -84,7 +101,7 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
       M = -M;
     }
     const Mat3 B = D * C;
-    out.push_back({J.name, phi + rho, F, M, B.transpose() * F, B.transpose() * M});
+    out.push_back({J.name, phi + rho, F, M, B.transpose() * F, B.transpose() * M, driving});
   }
   // Joints at shell points: the reaction on the shell (body_b), the net force and moment of the
   // rows' forces on the control points about the shell's material point; local components in
@@ -109,7 +126,7 @@ std::vector<JointReaction> joint_reactions(const System& sys, const VecX& q, con
     }
     const Mat3 D =
         s.body >= 0 ? Mat3(frame_node::directors(sys.node_q(q, s.body))) : Mat3::Identity();
-    out.push_back({c.name, p, F, M, D.transpose() * F, D.transpose() * M});
+    out.push_back({c.name, p, F, M, D.transpose() * F, D.transpose() * M, std::nullopt});
   }
   return out;
 }

@@ -16,6 +16,7 @@
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/joint_drivers.hpp"
 #include "isoflex/system/kl_model.hpp"
 
 namespace isoflex::system {
@@ -239,6 +240,7 @@ VecX System::external_force(const VecX& q, double t) const {
 
 void System::accept(const VecX& q) const {
   for (const auto& e : elements_) e->accept(stacked(q, e->nodes()));
+  for_each_constraint([&](const joints::Constraint& C, int) { C.accept(stacked(q, C.nodes())); });
 }
 
 VecX System::viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const {
@@ -325,6 +327,14 @@ VecX System::constraints(const VecX& q, double t) const {
   return c;
 }
 
+VecX System::prescribed(double t) const {
+  VecX d = VecX::Zero(m_all_);
+  for_each_constraint([&](const joints::Constraint& C, int row) {
+    if (C.rheonomic()) d.segment(row, C.constraint_count()) = C.prescribed(t);
+  });
+  return d;
+}
+
 namespace {
 
 // The rows `rows` of `all` (m_all × n), in that order.
@@ -401,6 +411,25 @@ SpMat System::constraint_hessian(const VecX& q, const VecX& lambda_sel) const {
   SpMat H(n(), n());
   H.setFromTriplets(t.begin(), t.end());
   return H;
+}
+
+VecX System::constraint_curvature(const VecX& q, const VecX& v) const {
+  // G is affine in q for the rows at most quadratic, so (G(q + v) − G(q)) v = (vᵀ∇²Φᵢ v)ᵢ exactly.
+  VecX out = (jacobian(q + v) - jacobian(q)) * v;
+  std::vector<int> position(static_cast<std::size_t>(m_all_), -1);
+  for (std::size_t p = 0; p < selected_rows_.size(); ++p)
+    position[static_cast<std::size_t>(selected_rows_[p])] = static_cast<int>(p);
+  // A driven angle (not quadratic): its Hessian.
+  for (const auto& C : nary_) {
+    if (!dynamic_cast<const JointDriver*>(C.constraint.get())) continue;
+    const int p = position[static_cast<std::size_t>(C.row_offset)];
+    if (p < 0) continue;
+    const VecX qc = stacked(q, C.constraint->nodes()), vc = stacked(v, C.constraint->nodes());
+    MatX H = MatX::Zero(qc.size(), qc.size());
+    C.constraint->add_constraint_hessian(qc, VecX::Ones(1), H);
+    out(p) = vc.dot(H * vc);
+  }
+  return out;
 }
 
 System::InputBlocks System::input_blocks(const VecX& q) const {

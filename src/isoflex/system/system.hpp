@@ -58,6 +58,11 @@ struct JointInstance {
   int nu_offset = -1;     // tree joints: first entry of τ in ν
   // The same rows as a Constraint over (parent, child) (joints/joint_rows.hpp).
   std::shared_ptr<const joints::Constraint> rows;
+  // Its driver (joints `driver`, system/joint_drivers.hpp): a revolute or prismatic joint's
+  // driver row, an n-ary constraint (index into System::nary_constraints(); −1: none). A
+  // spherical joint whose ground point moves has rheonomic rows itself (rows->rheonomic()) and
+  // is never a tree joint.
+  int driver = -1;
 };
 
 // An n-ary constraint (joints/constraint.hpp): rows over any set of nodes, always loop-closing
@@ -264,6 +269,14 @@ class System {
   VecX constraints(const VecX& q, double t) const;
   // True when some row depends on t.
   bool rheonomic() const { return rheonomic_; }
+  // d(t) of all rows (0 for the rows that do not depend on t): constraints(q, t) = Φ(q) − d(t).
+  // A step's prescribed motions do the work −λ·(d(tₙ₊₁) − d(tₙ)) over the selected rows
+  // (history.csv driver_work).
+  VecX prescribed(double t) const;
+  // (vᵀ ∇²Φᵢ(q) v)ᵢ of the selected rows: the velocity term of the rows' second derivative,
+  // G q̈ + (vᵀ∇²Φᵢ v)ᵢ = d̈ (the DAE schemes' consistent start). Exact: (G(q + v) − G(q)) v for
+  // the rows at most quadratic, the Hessian for the others (a driven angle).
+  VecX constraint_curvature(const VecX& q, const VecX& v) const;
   // Jacobian of the selected rows (m_selected × n) or of the given rows.
   SpMat jacobian(const VecX& q) const;
   SpMat jacobian_rows(const VecX& q, const std::vector<int>& rows) const;
@@ -389,6 +402,11 @@ class System {
   void add_springs(const model::Model& m, const NodeFinder& find);  // system_springs.cpp
   // Bushings and the springs of revolute and prismatic joints (system_frame_springs.cpp).
   void add_frame_springs(const model::Model& m, const NodeFinder& find);
+  // The driver rows of revolute and prismatic joints as n-ary constraints
+  // (system_frame_springs.cpp, system/joint_drivers.hpp); driver_of_joint[j]: the constraint of
+  // model joint j or −1.
+  void add_joint_drivers(const model::Model& m, const NodeFinder& find,
+                         std::vector<int>& driver_of_joint);
   void add_joint_edges(Build& build);
   void add_shell_supports(Build& build);
   void add_kl_supports(Build& build);

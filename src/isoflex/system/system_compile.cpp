@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <deque>
 #include <functional>
 #include <limits>
@@ -26,6 +28,7 @@
 #include "isoflex/math/director_node.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/normal_equations.hpp"
+#include "isoflex/system/joint_drivers.hpp"
 #include "isoflex/system/joint_frames.hpp"
 #include "isoflex/system/kl_model.hpp"
 #include "isoflex/system/row_selection.hpp"
@@ -52,6 +55,8 @@ struct System::Build {
   std::vector<Support> supports;
   std::vector<int> tree_parent_side;  // per edge: 0 not in the tree, +1 a → b, −1 b → a
   std::vector<int> order;             // tree joints (edges) in BFS order
+  // Per model joint: its driver row's n-ary constraint (revolute, prismatic) or −1.
+  std::vector<int> driver_of_joint;
 
   int find(const std::string& name, const model::Source& src, const std::string& what) const {
     if (name == "ground") return -1;
@@ -96,7 +101,7 @@ joints::Kind kind_of(model::JointType t) {
 
 System System::compile(const model::Model& model) {
   System s;
-  Build build{model, {}, {}, {}, {}, {}};
+  Build build{model, {}, {}, {}, {}, {}, {}};
   s.ground_ = fn::make(Vec3::Zero(), Mat3::Identity());
   // Nodes: the bodies in model order, the nodes of each beam along its polyline, the shells'
   // director nodes, the control points of the Kirchhoff–Love patches.
@@ -125,10 +130,25 @@ System System::compile(const model::Model& model) {
   s.add_shell_supports(build);
   s.add_kl_supports(build);
   s.add_kl_surface_joints(build);
+  s.add_joint_drivers(model, find, build.driver_of_joint);
   s.build_forest(build);
   s.add_joint_instances(build);
   s.check_assembled(build);
   s.select_loop_rows();
+  // A spherical joint whose ground point moves (a driver) must keep all its rows: a dropped row
+  // holds only if the kept ones imply it, which a moving point does not (as for the n-ary rows,
+  // select_loop_rows).
+  for (int r : s.redundant_rows_) {
+    const int j = s.joint_of_row(r);
+    if (j < 0 || static_cast<std::size_t>(j) >= model.joints.size() ||
+        !s.joints_[static_cast<std::size_t>(j)].rows->rheonomic())
+      continue;
+    fail(model.joints[static_cast<std::size_t>(j)].source, fmt::format("joints[{}].driver", j),
+         fmt::format("row {} of the moving point depends on the other rows of the model (it "
+                     "acts on what other joints already hold); a prescribed motion must act on "
+                     "free coordinates only",
+                     r - s.joints_[static_cast<std::size_t>(j)].row_offset));
+  }
   s.set_initial_velocities(model);
   s.build_stiffness_pattern();
   return s;
@@ -784,6 +804,11 @@ void System::build_forest(Build& build) {
       frontier.pop_front();
       for (std::size_t j = 0; j < build.edges.size(); ++j) {
         if (build.tree_parent_side[j] != 0) continue;
+        // A spherical joint whose ground point moves (a driver) is a cut joint: the tree's
+        // update map and null space are those of fixed joints.
+        if (j < n_model_joints && model.joints[j].type == model::JointType::spherical &&
+            !model.joints[j].driver.empty())
+          continue;
         const auto [a, b] = build.edges[j];
         if (a == u && !reached[b]) {
           build.tree_parent_side[j] = 1;
@@ -896,15 +921,15 @@ void System::add_joint_instances(Build& build) {
     const auto* frame = dynamic_cast<const joints::FrameJoint*>(joint.get());
     const int m = joint->constraint_count();
     joints_.push_back({J.name.empty() ? what : J.name, model::to_string(J.type), std::move(joint),
-                       frame, parent, child, build.tree_parent_side[j] != 0, rev, row, -1,
-                       nullptr});
+                       frame, parent, child, build.tree_parent_side[j] != 0, rev, row, -1, nullptr,
+                       build.driver_of_joint[j]});
     row += m;
   }
   // Shell supports after the model joints: joints_ is indexed like build.edges.
   for (std::size_t j = n_model_joints; j < build.edges.size(); ++j) {
     const Build::Support& S = build.supports[j - n_model_joints];
     joints_.push_back({S.name, S.type, S.joint, nullptr, build.edges[j].a, build.edges[j].b,
-                       build.tree_parent_side[j] != 0, false, row, -1, nullptr});
+                       build.tree_parent_side[j] != 0, false, row, -1, nullptr, -1});
     row += S.joint->constraint_count();
   }
   for (ConstraintInstance& C : nary_) {
@@ -914,6 +939,38 @@ void System::add_joint_instances(Build& build) {
   m_all_ = row;
   for (JointInstance& J : joints_)
     J.rows = std::make_shared<joints::JointRows>(J.joint, J.parent, J.child, ground_);
+  // Spherical joints whose ground point moves (joints `driver`): x_b − p₀ = p(t) − p₀, p₀ the
+  // joint point at t = 0 (on the ground: the parent, the joint is not in the tree).
+  for (std::size_t j = 0; j < n_model_joints; ++j) {
+    const model::Joint& M = model.joints[j];
+    JointInstance& J = joints_[j];
+    if (M.type != model::JointType::spherical || M.driver.empty()) continue;
+    const std::string what = fmt::format("joints[{}].driver", j);
+    if (!J.frame || J.parent >= 0 || J.tree)
+      fail(M.source, what, "a point driver moves the ground point of a spherical joint");
+    const Vec3 p0 = J.frame->geometry().X_A;
+    auto p = std::make_shared<std::array<loads::TimeFunction, 3>>();
+    for (int k = 0; k < 3; ++k) {
+      try {
+        (*p)[static_cast<std::size_t>(k)] =
+            loads::TimeFunction(M.driver[static_cast<std::size_t>(k)]);
+      } catch (const std::invalid_argument& e) {
+        fail(M.source, fmt::format("{}[{}]", what, k), e.what());
+      }
+    }
+    const auto d = [p, p0](double t) -> VecX {
+      return Vec3((*p)[0](t), (*p)[1](t), (*p)[2](t)) - p0;
+    };
+    const double off = d(0.0).norm();
+    if (!(off <= kDriverTolerance * std::max(1.0, p0.norm())))
+      fail(M.source, what,
+           fmt::format("the driven point is ({:.6g}, {:.6g}, {:.6g}) at t = 0, but the joint point "
+                       "is ({:.6g}, {:.6g}, {:.6g}): inconsistent by {:.3g}",
+                       p0.x() + d(0.0)(0), p0.y() + d(0.0)(1), p0.z() + d(0.0)(2), p0.x(), p0.y(),
+                       p0.z(), off));
+    J.rows = std::make_shared<joints::JointRows>(J.joint, J.parent, J.child, ground_, d);
+    rheonomic_ = true;
+  }
   int nu = 0;
   for (int root : roots_) {
     root_nu_offset_.push_back(nu);
