@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "isoflex/elements/invariant_spring_damper.hpp"
 #include "isoflex/elements/point_spring_damper.hpp"
@@ -363,9 +365,10 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   // No prediction of the last matrix here: at ~4 iterations per step it fails often enough that
   // the re-evaluation costs more than it saves (+2.0 % instructions on the slider-crank, +0.8 %
   // on kl_free_plate, callgrind; the iterates are the same either way).
-  VecX x;
+  VecX x, lambda;
   StepStats st;
   int spent = 0;
+  const bool check = settings_.formulation != F::constrained && sys_.m_selected() > 0;
   for (std::size_t k = 0; k < starts.size(); ++k) {
     x = start_unknowns(s, dt, starts[k]);
     const NewtonOutcome o = newton_loop(
@@ -382,19 +385,36 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
                                         (settings_.formulation == F::reparametrized ? qscale : 1.0);
           return size <= settings_.increment_tolerance * qscale;
         });
-    if (o.converged) {
+    std::string refused;
+    if (o.converged && check) {
+      // 𝖯ᵀr₀ = 0 implies (9), r₀ = −Δt𝖦ᵀλ, only where 𝖦 = G(q_{n+½}) has full row rank. Where it
+      // loses rank, null 𝖦 is larger than range 𝖯, the reduced equations have roots that are no
+      // steps of the scheme, and their energy balance fails; Newton can converge to one
+      // (docs/theory/schemes.md §7: a top with an arm on a universal joint). Such a root is
+      // refused like a start that did not converge.
+      double mismatch = 0.0;
+      lambda = step_multipliers(s, configuration(c, x), c.dt, c.t_mid, &mismatch);
+      if (!(c.dt * mismatch <= std::max(1e3 * o.residual, 1e-8 * ref)))
+        refused = fmt::format(
+            "Newton converged to a root of the reduced equations that is no step of the scheme "
+            "(G(q_n+1/2) rank deficient: |r0 + dt G^T lambda| = {:.3e}, scale {:.3e})",
+            c.dt * mismatch, ref);
+    }
+    if (o.converged && refused.empty()) {
       st.iterations = o.iterations;
       st.residual = o.residual;
       break;
     }
-    if (k + 1 == starts.size())
-      throw NewtonFailure(failure_message(
-          fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt), o, opt.residual_tolerance));
-    spent += settings_.max_iterations;
+    if (k + 1 == starts.size()) {
+      const std::string where = fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt);
+      throw NewtonFailure(refused.empty() ? failure_message(where, o, opt.residual_tolerance)
+                                          : where + ": " + refused);
+    }
+    spent += o.converged ? o.iterations : settings_.max_iterations;
   }
   st.iterations += spent;
   const VecX q1 = configuration(c, x);
-  if (reactions_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
+  if (reactions_) s.lambda = check ? lambda : step_multipliers(s, q1, c.dt, c.t_mid);
   s.last_unknowns = x;
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   s.last_dt = dt;
@@ -415,15 +435,18 @@ void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
 }
 
 VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, double dt,
-                                                double t_mid) const {
+                                                double t_mid, double* mismatch) const {
   VecX f = sys_.discrete_force(s.q, q1, t_mid, nullptr);
   if (sys_.viscous()) f += sys_.viscous_force(0.5 * (s.q + q1), (q1 - s.q) / dt, 0, 0, nullptr);
   const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
   const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - s.v)) + f;
   const SpMat G = sys_.discrete_jacobian(s.q, q1);
   try {
-    return normal_equations_.solve(G, VecX(-(G * r)));
+    VecX lambda = normal_equations_.solve(G, VecX(-(G * r)));
+    if (mismatch) *mismatch = (r + G.transpose() * lambda).lpNorm<Eigen::Infinity>();
+    return lambda;
   } catch (const std::runtime_error&) {
+    if (mismatch) *mismatch = std::numeric_limits<double>::infinity();
     return VecX();  // G rank deficient at the step: no reactions for it (the step stands)
   }
 }
