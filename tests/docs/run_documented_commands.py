@@ -15,13 +15,17 @@ until `done`, an open quote): lines are joined until `bash -n` accepts them. In 
 `$ ` prompts (a transcript) only the prompted lines (and their continuations) are commands; the
 other lines are output and are not compared.
 
-Markers (an HTML comment, invisible on GitHub, on the last non-blank line before the block's
-opening fence; the reason in parentheses is required):
+Markers (an HTML comment, invisible on GitHub, alone on the last non-blank line before the
+block's opening fence; the reason in parentheses is required):
     <!-- doc-test: skip (reason) -->   never run here (setup that installs packages and rebuilds,
                                         builds of other presets, hour-long fuzzing, …)
     <!-- doc-test: slow (reason) -->   run only with --slow (on demand; budget of the quick set
                                         in ctest: about a minute on two cores)
 A marker applies to the whole block: a block mixing quick and slow commands is split in two.
+Setup is skipped, not mapped: the two commands at the top of README.md run scripts/setup.sh
+(packages, a rebuild of build/) and then the main example or the whole suite, of which this test
+is a part; the test runs on the build that exists (--build), and the examples' own READMEs run
+their models. The fuzzing block (another build, build-fuzz/, and an hour) is skipped as well.
 `paraview FILE …` (an interactive viewer) is never started: the check is that FILE exists when
 the commands before it have run.
 
@@ -34,9 +38,10 @@ out/), each by `bash -e -c`, with MPLBACKEND=Agg. A command fails the test if it
 or runs out of time (--timeout per command), and also if it writes anywhere in the copy but out/:
 a repository file rewritten (even with the same content) or deleted, or a new file outside out/
 (documented commands write their results under out/; a committed figure or table is updated by
-copying it from there). The
-repository itself is compared before and after (`git status --porcelain`). Commands that write
-to /tmp (a few sed-made model variants) are left alone.
+copying it from there). The repository itself is compared before and after (`git status
+--porcelain`). Commands that write to /tmp (a few sed-made model variants) are left alone.
+Each command's line shows its wall time and the CPU time of its processes (exact with --jobs 1,
+the default; with more jobs the files' commands overlap).
 
 Exit status 0 if every command that ran passed, 1 otherwise (each failure names the file, line,
 command, exit status and the tail of its output), 2 for a malformed marker or block.
@@ -57,7 +62,7 @@ import time
 
 COMMAND_LANGUAGES = {"sh", "bash", "shell", "console"}
 FENCE = re.compile(r"^( {0,3})(`{3,}|~{3,})\s*([^\s`]*)")
-MARKER = re.compile(r"<!--\s*doc-test:(.*?)-->")
+MARKER = re.compile(r"^\s*<!--\s*doc-test:(.*?)-->\s*$")  # a line of its own
 MARKER_BODY = re.compile(r"^\s*(skip|slow)\s*\((.+)\)\s*$")
 TAIL_LINES = 40
 
@@ -132,7 +137,7 @@ def extract(repo, path):
         line = lines[i]
         m = FENCE.match(line)
         if not m:
-            mk = MARKER.search(line)
+            mk = MARKER.match(line)
             if mk:
                 body = MARKER_BODY.match(mk.group(1))
                 if not body:
