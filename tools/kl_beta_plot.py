@@ -15,6 +15,7 @@ left out and listed on stderr. Exit status 2 on a bad file or option.
 import argparse
 import csv
 import math
+import os
 import sys
 
 import matplotlib
@@ -101,6 +102,7 @@ def main():
     if a.title:
         fig.suptitle(a.title)
     fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     fig.savefig(a.out, dpi=120)
 
 

@@ -108,6 +108,9 @@ def main():
     ref = max(single, key=lambda r: (r["p"], r["knots"]))["energy"] if single else rows[-1]["energy"]
     for r in rows:
         r["relative_error"] = abs(r["energy"] - ref) / ref
+    for path in (a.csv, a.plot):
+        if path:
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     out = open(a.csv, "w", newline="") if a.csv else sys.stdout
     w = csv.DictWriter(out, fieldnames=list(rows[0].keys()), lineterminator="\n")
     w.writeheader()

@@ -9,7 +9,9 @@ Reads the .vtu that `isoflex run --static` writes for a kl_shell (io/kl_shell_vt
 the deformed mid-surface tessellated per knot span; point data `parameters` (ξ, η),
 `displacement`, `n`, `m`, `sigma_top`, `sigma_bottom` (components 11, 22, 12 in the local
 Cartesian frame whose first axis e1 ∥ a₁ is written as `e1`), `principal_top/bottom` (1, 2),
-`von_mises_top/bottom`). Given a run directory, the last vtk/step_*.vtu is used.
+`von_mises_top/bottom`). Given a run directory, the last vtk/<shell>_NNNNNN.vtu is used (the
+patch's own file; vtk/step_NNNNNN.vtu holds bodies, beams and director shells); a run with
+several Kirchhoff–Love shells needs the file itself.
 
 For every --field (default n:22 and m:22) one contour plot over the reference mid-surface
 (Points − displacement), projected onto --coords A,B, each one of x, y, z (reference coordinates),
@@ -56,9 +58,14 @@ def fail(msg):
 
 def vtu_path(arg):
     if os.path.isdir(arg):
-        files = sorted(glob.glob(os.path.join(arg, "vtk", "step_*.vtu")))
-        if not files:
-            fail(f"no vtk/step_*.vtu in {arg}")
+        files = sorted(f for f in glob.glob(os.path.join(arg, "vtk", "*_*.vtu"))
+                       if not os.path.basename(f).startswith("step_"))
+        shells = sorted({os.path.basename(f).rsplit("_", 1)[0] for f in files})
+        if not shells:
+            fail(f"no Kirchhoff–Love shell file vtk/<shell>_NNNNNN.vtu in {arg}")
+        if len(shells) > 1:
+            fail(f"{arg} has the shells {', '.join(shells)}: give the .vtu of one, e.g. "
+                 f"{files[-1]}")
         return files[-1]
     if not os.path.isfile(arg):
         fail(f"no such file: {arg}")
@@ -210,6 +217,7 @@ def main():
     fig.suptitle(a.title or os.path.basename(path))
     fig.tight_layout()
     out = a.output or os.path.splitext(path)[0] + "_resultants.png"
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     fig.savefig(out, dpi=110)
     print(f"wrote {out}")
 

@@ -224,6 +224,7 @@ def main():
     a = ap.parse_args()
     if a.check and not check():
         raise SystemExit("check failed")
+    os.makedirs(os.path.dirname(os.path.abspath(a.output)), exist_ok=True)
     with open(a.output, "w") as f:
         f.write(model_yaml(a.dt, a.t_end))
     print(f"wrote {a.output}")

@@ -156,6 +156,9 @@ def fmt(v):
 
 
 def report(a, results):
+    for path in (a.table, a.csv, a.plot):
+        if path:
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     if a.table:
         with open(a.table, "w") as f:
             f.write("| p | N | DOFs | e 90° | e 180° | e 360° | e_KL 90° | e_KL 180° | e_KL 360° "

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "isoflex/elements/invariant_spring_damper.hpp"
 #include "isoflex/elements/point_spring_damper.hpp"
@@ -372,6 +374,10 @@ double EnergyMomentumIntegrator::residual_scale(const State& s, double dt) const
 StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const StepContext c = context(s, dt);
   const double ref = residual_scale(s, c.dt);
+  // The scale of the full equations (9), for the check of a reduced root below.
+  const double full_ref =
+      std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
+                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
   NewtonMatrix J;
   const bool fast = bordered_ || tree_.has_value();
@@ -390,9 +396,10 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   // No prediction of the last matrix here: at ~4 iterations per step it fails often enough that
   // the re-evaluation costs more than it saves (+2.0 % instructions on the slider-crank, +0.8 %
   // on kl_free_plate, callgrind; the iterates are the same either way).
-  VecX x;
+  VecX x, lambda;
   StepStats st;
   int spent = 0;
+  const bool check = settings_.formulation != F::constrained && sys_.m_selected() > 0;
   for (std::size_t k = 0; k < starts.size(); ++k) {
     x = start_unknowns(s, dt, starts[k]);
     const NewtonOutcome o = newton_loop(
@@ -409,15 +416,32 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
                                         (settings_.formulation == F::reparametrized ? qscale : 1.0);
           return size <= settings_.increment_tolerance * qscale;
         });
-    if (o.converged) {
+    std::string refused;
+    if (o.converged && check) {
+      // 𝖯ᵀr₀ = 0 implies (9), r₀ = −Δt𝖦ᵀλ, only where 𝖦 = G(q_{n+½}) has full row rank. Where it
+      // loses rank, null 𝖦 is larger than range 𝖯, the reduced equations have roots that are no
+      // steps of the scheme, and their energy balance fails; Newton can converge to one
+      // (docs/theory/schemes.md §7: a top with an arm on a universal joint). Such a root is
+      // refused like a start that did not converge.
+      double mismatch = 0.0;
+      lambda = step_multipliers(s, configuration(c, x), c.dt, c.t_mid, &mismatch);
+      if (!(c.dt * mismatch <= std::max(1e3 * o.residual, 1e-8 * full_ref)))
+        refused = fmt::format(
+            "Newton converged to a root of the reduced equations that is no step of the scheme "
+            "(G(q_n+1/2) rank deficient: |r0 + dt G^T lambda| = {:.3e}, scale {:.3e})",
+            c.dt * mismatch, full_ref);
+    }
+    if (o.converged && refused.empty()) {
       st.iterations = o.iterations;
       st.residual = o.residual;
       break;
     }
-    if (k + 1 == starts.size())
-      throw NewtonFailure(failure_message(
-          fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt), o, opt.residual_tolerance));
-    spent += settings_.max_iterations;
+    if (k + 1 == starts.size()) {
+      const std::string where = fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt);
+      throw NewtonFailure(refused.empty() ? failure_message(where, o, opt.residual_tolerance)
+                                          : where + ": " + refused);
+    }
+    spent += o.converged ? o.iterations : settings_.max_iterations;
   }
   st.iterations += spent;
   const VecX q1 = configuration(c, x);
@@ -425,7 +449,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   // G̃ᵀλ add −λ·(d(tₙ₊₁) − d(tₙ)) to the energy in the step, exactly (G̃ Δq = ΔΦ; DNSM-III (9)
   // with a right-hand side): the drivers' work, summed wherever the step's λ is recovered (joint
   // drivers, or reactions written).
-  if (reactions_ || drivers_) s.lambda = step_multipliers(s, q1, c.dt, c.t_mid);
+  if (reactions_ || drivers_) s.lambda = check ? lambda : step_multipliers(s, q1, c.dt, c.t_mid);
   if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
     const VecX dd = sys_.prescribed(s.t + c.dt) - sys_.prescribed(s.t);
     for (int p = 0; p < sys_.m_selected(); ++p)
@@ -451,15 +475,18 @@ void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
 }
 
 VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, double dt,
-                                                double t_mid) const {
+                                                double t_mid, double* mismatch) const {
   VecX f = sys_.discrete_force(s.q, q1, t_mid, nullptr);
   if (sys_.viscous()) f += sys_.viscous_force(0.5 * (s.q + q1), (q1 - s.q) / dt, 0, 0, nullptr);
   const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
   const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - s.v)) + f;
   const SpMat G = sys_.discrete_jacobian(s.q, q1);
   try {
-    return normal_equations_.solve(G, VecX(-(G * r)));
+    VecX lambda = normal_equations_.solve(G, VecX(-(G * r)));
+    if (mismatch) *mismatch = (r + G.transpose() * lambda).lpNorm<Eigen::Infinity>();
+    return lambda;
   } catch (const std::runtime_error&) {
+    if (mismatch) *mismatch = std::numeric_limits<double>::infinity();
     return VecX();  // G rank deficient at the step: no reactions for it (the step stands)
   }
 }

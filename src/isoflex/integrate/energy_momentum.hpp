@@ -100,7 +100,10 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // reactions): the least-squares solution of G̃ᵀλ = −r₀/Δt, r₀ = M(vₙ₊₁ − vₙ) + Δt f, i.e. the
   // constrained form (DNSM-III (9)) that every formulation solves in its own unknowns — exact to
   // the Newton tolerance. Empty where G̃ is rank deficient (the step's reactions are not written).
-  VecX step_multipliers(const State& s, const VecX& q1, double dt, double t_mid) const;
+  // mismatch, if given: ‖r₀/Δt + G̃ᵀλ‖∞, how far the step is from solving (9) (∞ if rank
+  // deficient); a reduced step is refused above the Newton tolerance (attempt).
+  VecX step_multipliers(const State& s, const VecX& q1, double dt, double t_mid,
+                        double* mismatch = nullptr) const;
 
   const system::System& sys_;
   model::Solver settings_;
