@@ -366,7 +366,9 @@ double EnergyMomentumIntegrator::residual_scale(const State& s, double dt) const
       return A;
     };
     const VecX t = absolute(sys_.mass()) * ((2.0 / dt) * lengths(s.q) + lengths(s.v));
-    ref = VecX(absolute(sys_.tree_null_space(s.q)).transpose() * t).maxCoeff();
+    // Never looser than the full terms: |𝖯|ᵀ bounds the round-off, but a chain far from the origin
+    // (lever arms × positions) would get a bound far above it and stop early.
+    ref = std::min(ref, VecX(absolute(sys_.tree_null_space(s.q)).transpose() * t).maxCoeff());
   }
   return ref > 0.0 ? ref : 1.0;
 }
