@@ -22,13 +22,16 @@ Vec3 BodyLoad::moment(double t) const {
   return evaluate(moment_, t);
 }
 
-Vec<12> BodyLoad::generalized_force(const Vec<12>& q, double t) const {
-  const Vec3 F = force(t), M = moment(t);
+Vec<12> frame_node_force(const Vec<12>& q, const Vec3& X, const Vec3& F, const Vec3& M) {
   Vec<12> f;
   f.head<3>() = F;
   for (int I = 0; I < 3; ++I)
-    f.segment<3>(3 + 3 * I) = X_(I) * F + 0.5 * M.cross(q.segment<3>(3 + 3 * I));
+    f.segment<3>(3 + 3 * I) = X(I) * F + 0.5 * M.cross(q.segment<3>(3 + 3 * I));
   return f;
+}
+
+Vec<12> BodyLoad::generalized_force(const Vec<12>& q, double t) const {
+  return frame_node_force(q, X_, force(t), moment(t));
 }
 
 Mat<12, 12> BodyLoad::generalized_force_derivative(double t) const {

@@ -13,6 +13,11 @@
 
 namespace isoflex::loads {
 
+// The generalized force of a force F at the body-fixed point X (director coordinates X_I) and a
+// moment M on a frame node q = (φ, d₁, d₂, d₃): F on φ, X_I F + ½ M × d_I on d_I (docs/theory/
+// rigid-body.md §7). Shared by BodyLoad (F, M global) and FollowerBodyLoad (F, M on the directors).
+Vec<12> frame_node_force(const Vec<12>& q, const Vec3& X, const Vec3& F, const Vec3& M);
+
 class BodyLoad : public Load {
  public:
   BodyLoad(int node, const Vec3& X, std::optional<std::array<TimeFunction, 3>> force,

@@ -1,5 +1,6 @@
 #include "isoflex/loads/follower_body_load.hpp"
 
+#include "isoflex/loads/body_load.hpp"
 #include "isoflex/math/skew.hpp"
 
 namespace isoflex::loads {
@@ -30,12 +31,7 @@ Vec3 FollowerBodyLoad::local_moment(double t) const {
 
 // BodyLoad's generalized force (docs/theory/rigid-body.md §7) with the turned F and M.
 Vec<12> FollowerBodyLoad::generalized_force(const Vec<12>& q, double t) const {
-  const Vec3 F = on_directors(q, local_force(t)), M = on_directors(q, local_moment(t));
-  Vec<12> f;
-  f.head<3>() = F;
-  for (int I = 0; I < 3; ++I)
-    f.segment<3>(3 + 3 * I) = X_(I) * F + 0.5 * M.cross(q.segment<3>(3 + 3 * I));
-  return f;
+  return frame_node_force(q, X_, on_directors(q, local_force(t)), on_directors(q, local_moment(t)));
 }
 
 // Rows (φ, d_I), columns d_J: F_J I, X_I F_J I − ½ M_J d̂_I + δ_IJ ½ M̂ (header); the φ columns
