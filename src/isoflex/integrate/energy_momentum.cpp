@@ -59,6 +59,11 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
   for (const auto& J : sys.joints()) drivers_ = drivers_ || J.driver >= 0 || J.rows->rheonomic();
   const double mean_mass = sys.mass().diagonal().sum() / std::max(1, sys.n());
   constraint_scale_ = (2.0 / settings.dt) * (mean_mass > 0.0 ? mean_mass : 1.0);
+  if (settings.formulation == F::reparametrized) {
+    abs_mass_ = sys.mass();
+    for (int k = 0; k < abs_mass_.outerSize(); ++k)
+      for (SpMat::InnerIterator it(abs_mass_, k); it; ++it) it.valueRef() = std::abs(it.value());
+  }
   const bool possible = settings.formulation != F::constrained && sys.cut_rows().empty();
   if (settings.formulation == F::reparametrized &&
       (how == ReducedSolve::tree || how == ReducedSolve::automatic)) {
@@ -350,9 +355,8 @@ StepStats EnergyMomentumIntegrator::step(State& s) const {
 // too: a heavy top of 1 mm (its reduced moments 10⁻³ of them) stopped after 1.7 iterations per
 // step and drifted 3·10⁻⁸ in energy over 10⁴ steps, where the same top of 1 m drifts 2·10⁻¹³
 // (issue #19; tests/integrate/test_newton_scale.cpp).
-double EnergyMomentumIntegrator::residual_scale(const State& s, double dt) const {
-  double ref = (2.0 / dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
-               (sys_.mass() * s.v).lpNorm<Eigen::Infinity>();
+double EnergyMomentumIntegrator::residual_scale(const State& s, double dt, double full) const {
+  double ref = full;
   if (settings_.formulation == F::reparametrized && sys_.k() > 0) {
     const auto lengths = [](const VecX& x) {
       VecX b(x.size());
@@ -360,26 +364,24 @@ double EnergyMomentumIntegrator::residual_scale(const State& s, double dt) const
         b.segment<3>(i).setConstant(x.segment<3>(i).norm());
       return b;
     };
-    const auto absolute = [](SpMat A) {
-      for (int k = 0; k < A.outerSize(); ++k)
-        for (SpMat::InnerIterator it(A, k); it; ++it) it.valueRef() = std::abs(it.value());
-      return A;
-    };
-    const VecX t = absolute(sys_.mass()) * ((2.0 / dt) * lengths(s.q) + lengths(s.v));
+    const VecX t = abs_mass_ * ((2.0 / dt) * lengths(s.q) + lengths(s.v));
+    SpMat P = sys_.tree_null_space(s.q);
+    for (int k = 0; k < P.outerSize(); ++k)
+      for (SpMat::InnerIterator it(P, k); it; ++it) it.valueRef() = std::abs(it.value());
     // Never looser than the full terms: |𝖯|ᵀ bounds the round-off, but a chain far from the origin
     // (lever arms × positions) would get a bound far above it and stop early.
-    ref = std::min(ref, VecX(absolute(sys_.tree_null_space(s.q)).transpose() * t).maxCoeff());
+    ref = std::min(ref, VecX(P.transpose() * t).maxCoeff());
   }
   return ref > 0.0 ? ref : 1.0;
 }
 
 StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const StepContext c = context(s, dt);
-  const double ref = residual_scale(s, c.dt);
-  // The scale of the full equations (9), for the check of a reduced root below.
-  const double full_ref =
-      std::max(1.0, (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
-                        (sys_.mass() * s.v).lpNorm<Eigen::Infinity>());
+  // The momentum terms of the full equations (9); with a floor of 1 the scale of the check of a
+  // reduced root below.
+  const double full = (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
+                      (sys_.mass() * s.v).lpNorm<Eigen::Infinity>();
+  const double ref = residual_scale(s, c.dt, full), full_ref = std::max(1.0, full);
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
   NewtonMatrix J;
   const bool fast = bordered_ || tree_.has_value();

@@ -78,7 +78,8 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   enum class Predictor { extrapolated, at_rest, secant };
   VecX start_unknowns(const State& s, double dt, Predictor p) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
-  double residual_scale(const State& s, double dt) const;
+  // The Newton residual scale of a step from s; `full` = (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞.
+  double residual_scale(const State& s, double dt, double full) const;
   StepStats attempt(State& s, double dt) const;
   // Newton matrix, possibly bordered: the correction is x-block [col, col + size) of A⁻¹ b with
   // b = −R placed at rows [row, row + R.size()).
@@ -116,6 +117,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // scale of the rows 𝖯ᵀ(M(vₙ₊₁ − vₙ) + Δt f): the solution is unchanged and the condition
   // number of the Newton matrix no longer grows as Δt⁻¹ (docs/theory/schemes.md).
   double constraint_scale_ = 1.0;
+  system::SpMat abs_mass_;  // |M| entrywise (reparametrized: residual_scale)
   // λ̂ of reduced_stiffness: the fill-reducing ordering of 𝖦𝖦ᵀ is kept while its pattern is
   // unchanged (a cache; an integrator is not shared between threads).
   mutable solve::NormalEquations normal_equations_;

@@ -578,10 +578,7 @@ class Reader : YamlFields {
            fmt::format("too many elements ({}, at most {})", e, kMaxBeamElements));
     b.elements = {e};
 
-    const Vec3 radial =
-        (arc.start - arc.axis_point) - (arc.start - arc.axis_point).dot(arc.axis) * arc.axis;
-    const Vec3 tangent =
-        (arc.axis.cross(radial) + arc.pitch / (2.0 * M_PI) * arc.axis).normalized();
+    const Vec3 tangent = arc.start_tangent();
     if (const YAML::Node d1 = n["d1"]) {
       b.d1 = direction(d1, join(p, "d1"));
       const double c = std::abs(b.d1.dot(tangent));

@@ -8,13 +8,6 @@ BodyLoad::BodyLoad(int node, const Vec3& X, std::optional<std::array<TimeFunctio
                    std::optional<std::array<TimeFunction, 3>> moment)
     : nodes_{node}, X_(X), force_(std::move(force)), moment_(std::move(moment)) {}
 
-namespace {
-Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
-  if (!f) return Vec3::Zero();
-  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
-}
-}  // namespace
-
 Vec3 BodyLoad::force(double t) const {
   return evaluate(force_, t);
 }

@@ -8,13 +8,6 @@ DirectorNodeLoad::DirectorNodeLoad(int node, std::optional<std::array<TimeFuncti
                                    std::optional<std::array<TimeFunction, 3>> moment)
     : nodes_{node}, force_(std::move(force)), moment_(std::move(moment)) {}
 
-namespace {
-Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
-  if (!f) return Vec3::Zero();
-  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
-}
-}  // namespace
-
 Vec<6> DirectorNodeLoad::generalized_force(const Vec<6>& q, double t) const {
   Vec<6> f;
   f << evaluate(force_, t), evaluate(moment_, t).cross(q.tail<3>());

@@ -11,11 +11,6 @@ FollowerBodyLoad::FollowerBodyLoad(int node, const Vec3& X,
     : nodes_{node}, X_(X), force_(std::move(force)), moment_(std::move(moment)) {}
 
 namespace {
-Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
-  if (!f) return Vec3::Zero();
-  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
-}
-
 // Σ_J a_J d_J: components a in the frame of the directors of q (not normalized: at q_{n+½}).
 Vec3 on_directors(const Vec<12>& q, const Vec3& a) {
   return a(0) * q.segment<3>(3) + a(1) * q.segment<3>(6) + a(2) * q.segment<3>(9);

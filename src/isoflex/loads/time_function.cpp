@@ -98,4 +98,9 @@ double TimeFunction::operator()(double t) const {
   return impl_->parser.Eval();
 }
 
+Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t) {
+  if (!f) return Vec3::Zero();
+  return Vec3((*f)[0](t), (*f)[1](t), (*f)[2](t));
+}
+
 }  // namespace isoflex::loads

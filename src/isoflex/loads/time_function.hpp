@@ -13,8 +13,12 @@
 // object owned by the TimeFunction; moving keeps that object, copying compiles the expression
 // anew. Copies are therefore independent and may be evaluated on different threads; a single
 // object must not be evaluated concurrently (evaluation writes its variable).
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
+
+#include "isoflex/math/types.hpp"
 
 namespace isoflex::loads {
 
@@ -51,5 +55,9 @@ class TimeFunction {
   double constant_ = 0.0;  // the value when is_constant()
   std::unique_ptr<Impl> impl_;
 };
+
+// The vector of three time functions at t; zero when there are none (an optional force or
+// moment of a load).
+Vec3 evaluate(const std::optional<std::array<TimeFunction, 3>>& f, double t);
 
 }  // namespace isoflex::loads

@@ -95,6 +95,11 @@ Vec3 BeamArc::end() const {
          pitch * angle / (2.0 * M_PI) * axis;
 }
 
+Vec3 BeamArc::start_tangent() const {
+  const Vec3 r = start - axis_point;
+  return (axis.cross(r - r.dot(axis) * axis) + pitch / (2.0 * M_PI) * axis).normalized();
+}
+
 double Beam::length() const {
   if (arc) return arc->length();
   double l = 0.0;

@@ -167,6 +167,7 @@ struct BeamArc {
   double radius() const;
   double length() const;  // angle · √(R² + (pitch/2π)²)
   Vec3 end() const;
+  Vec3 start_tangent() const;  // unit
 };
 
 // A beam along a polyline or an arc/helix, meshed with two-node elements; its nodes are frame
