@@ -95,16 +95,18 @@ TEST_P(FrameJointTest, UpdateMapKeepsConstraintsAndMatchesNullSpace) {
   const int r = s.joint.freedom_count();
   fn::Q qa_n = s.qa0, qb_n = s.qb0;
   for (int step = 0; step < 3; ++step) {
-    const fn::Q qa_n1 = fn::update(qa_n, random_vector(g, 6, 0.8));
+    const VecX ua = random_vector(g, 6, 0.8);
+    const fn::Q qa_n1 = fn::update(qa_n, ua);
+    const Mat3 QA = rodrigues(Vec3(ua.tail<3>()));
     const VecX tau = random_vector(g, r, 0.8);
-    const fn::Q qb_n1 = s.joint.update(qa_n, qa_n1, qb_n, tau);
+    const fn::Q qb_n1 = s.joint.update(qa_n, qa_n1, QA, qb_n, tau);
     EXPECT_LT(s.joint.constraints(qa_n1, qb_n1).norm(), 1e-13) << "step " << step;
     EXPECT_LT(fn::constraints(qb_n1).norm(), 1e-13);
     // ∂q_B,n+1/∂(t_A, τ) = P_int(q_B)[A B] diag(I, T(θ)) at t_{n+1}, the parent varied through
     // its own update map.
     auto f = [&](const VecX& x) -> VecX {
       const fn::Q qa = fn::update(qa_n1, x.head<6>());
-      return s.joint.update(qa_n, qa, qb_n, tau + x.tail(r));
+      return s.joint.update(qa_n, qa, rodrigues(Vec3(x.segment<3>(3))) * QA, qb_n, tau + x.tail(r));
     };
     const MatX J = central_jacobian(f, VecX::Zero(6 + r));
     MatX AB(6, 6 + r);
@@ -118,6 +120,27 @@ TEST_P(FrameJointTest, UpdateMapKeepsConstraintsAndMatchesNullSpace) {
     qa_n = qa_n1;
     qb_n = qb_n1;
   }
+}
+
+// The child turns by Q_A, the parent's exact step rotation, not by R_A,n+1 R_A,nᵀ: a parent whose
+// directors are off orthonormal by ε (round-off, here 10⁻¹⁰ to be seen) then leaves the child as
+// it was, instead of adding ε to it at every step (after 200 steps: 2·10⁻⁸ before).
+TEST_P(FrameJointTest, ParentOrthonormalityErrorDoesNotAccumulateInTheChild) {
+  std::mt19937 g(70 + GetParam());
+  const auto s = make_setup(kKinds[GetParam()], g);
+  const int r = s.joint.freedom_count();
+  fn::Q qa_n = s.qa0, qb_n = s.qb0;
+  qa_n.segment<3>(3) *= 1.0 + 1e-10;
+  for (int step = 0; step < 200; ++step) {
+    const VecX ua = random_vector(g, 6, 0.3);
+    const fn::Q qa_n1 = fn::update(qa_n, ua);
+    const fn::Q qb_n1 =
+        s.joint.update(qa_n, qa_n1, rodrigues(Vec3(ua.tail<3>())), qb_n, random_vector(g, r, 0.3));
+    qa_n = qa_n1;
+    qb_n = qb_n1;
+  }
+  // Locked rotation: R_B = R_A C_A C_Bᵀ copies the parent's ε once.
+  EXPECT_LT(fn::constraints(qb_n).lpNorm<Eigen::Infinity>(), 3e-10);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllKinds, FrameJointTest, ::testing::Range(0, 8));

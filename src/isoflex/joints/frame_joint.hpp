@@ -64,9 +64,10 @@ class FrameJoint final : public Joint {
 
   // Update map: child configuration at t_{n+1} from the parent at t_n and t_{n+1}, the child at
   // t_n and the joint increments. ∂q_B/∂(t_A, τ) equals P_int(q_B) [A B] at t_{n+1} with θ-columns
-  // multiplied by T(θ) (rotation_vector_offset). The parent's step rotation is taken from its
-  // directors, so `step_a` is not needed.
-  Q update(const Q& qa_n, const Q& qa_n1, const Q& qb_n, const VecX& tau) const;
+  // multiplied by T(θ) (rotation_vector_offset). Q_A is the parent's rotation over the step
+  // (Q_A R_A,n = R_A,n+1); `step_b` receives the child's.
+  Q update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n, const VecX& tau,
+           Mat3* step_b = nullptr) const;
   VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
               Mat3* step_b) const override;
   MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
