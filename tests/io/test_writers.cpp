@@ -1135,6 +1135,9 @@ TEST(SummaryWriter, KeysValuesNullAndEscapes) {
   }
   EXPECT_EQ(json.find("nan"), std::string::npos);
   EXPECT_EQ(json.find("inf"), std::string::npos);
+  EXPECT_EQ(json.find("newton_failed_starts"), std::string::npos);  // not an energy–momentum run
+  s.newton_failed_starts = 7;
+  EXPECT_NE(io::summary_json(s).find("\"newton_failed_starts\": 7,"), std::string::npos);
 }
 
 TEST(SummaryWriter, EmptyProbesAndControlCharacters) {

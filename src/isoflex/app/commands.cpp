@@ -532,6 +532,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.n_redundant_constraints = static_cast<int>(sys.redundant_rows().size());
   sum.dt = m.solver.dt;
   sum.t_end = m.solver.t_end;
+  if (!statics && m.solver.integrator == model::Integrator::energy_momentum)
+    sum.newton_failed_starts = 0;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
   // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
@@ -575,6 +577,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     snap = next;
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
+    if (sum.newton_failed_starts) *sum.newton_failed_starts += st.failed_starts;
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)

@@ -251,6 +251,7 @@ StepStats CoSimulation::advance() {
       try {
         const StepStats st = integ.step(state);
         out.iterations += st.iterations;
+        out.failed_starts += st.failed_starts;
         out.residual = std::max(out.residual, st.residual);
       } catch (const NewtonFailure& e) {
         throw NewtonFailure(fmt::format("co-simulation macro step {} (t = {:.6g}), {} part: {}",

@@ -17,7 +17,8 @@ StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int dep
   }
   const StepStats a = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
   const StepStats b = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
-  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps};
+  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps,
+          a.failed_starts + b.failed_starts};
 }
 
 // One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, s.t is

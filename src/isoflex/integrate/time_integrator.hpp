@@ -31,6 +31,9 @@ struct State {
   // λ ≈ λₙ).
   VecX last_unknowns;
   double last_dt = 0.0;
+  // Energy–momentum: the Newton start the last step converged from
+  // (EnergyMomentumIntegrator::Predictor), tried first in the next step.
+  int last_start = 0;
   // DAE schemes (empty until their first step): q̈ₙ, the auxiliary acceleration aₙ of
   // generalized-α (IGA-thesis (2.23)), the multipliers λₙ of the selected rows, and qₙ₋₁, vₙ₋₁
   // for BDF-2.
@@ -55,6 +58,9 @@ struct StepStats {
   int iterations = 0;
   double residual = 0.0;  // ‖R‖∞ at the last evaluation
   int substeps = 1;       // > 1: the step was subdivided (model::Solver::max_subdivisions)
+  // Energy–momentum: Newton starts abandoned before one converged (iterations include theirs),
+  // in the parts that were kept.
+  int failed_starts = 0;
 };
 
 class TimeIntegrator {

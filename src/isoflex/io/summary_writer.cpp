@@ -90,6 +90,7 @@ std::string summary_json(const RunSummary& s) {
   integer("n_redundant_constraints", s.n_redundant_constraints);
   integer("steps", s.steps);
   integer("newton_iterations_total", s.newton_iterations_total);
+  if (s.newton_failed_starts) integer("newton_failed_starts", *s.newton_failed_starts);
   real("dt", s.dt);
   real("t_end", s.t_end);
   real("wall_time_s", s.wall_time_s);

@@ -20,6 +20,9 @@ struct RunSummary {
   int n_redundant_constraints = 0;
   int steps = 0;
   int newton_iterations_total = 0;
+  // Energy–momentum runs: Newton starts that failed before another converged (in the iterations
+  // above; integrate::StepStats::failed_starts).
+  std::optional<int> newton_failed_starts;
   double dt = 0.0;
   double t_end = 0.0;
   double wall_time_s = 0.0;

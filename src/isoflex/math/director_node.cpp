@@ -104,6 +104,11 @@ Q root_update(const Q& qn, const Vec<5>& u, Mat3* step) {
   return q;
 }
 
+void transport_increments(const Q& qn, const Q& q1, Eigen::Ref<VecX> u) {
+  const Vec3 theta = rotation_axes(qn.tail<3>()) * u.tail<2>();
+  u.tail<2>() = rotation_axes(q1.tail<3>()).transpose() * theta;
+}
+
 Mat<6, 5> root_update_block(const Q& qn, const Vec<5>& u) {
   const Mat<3, 2> w = rotation_axes(qn.tail<3>());
   Mat<6, 5> B = Mat<6, 5>::Zero();

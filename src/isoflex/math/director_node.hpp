@@ -34,6 +34,12 @@ Mat<6, 5> root_block(const Q& q);
 // The reparametrization (53)–(54) of a free node with the basis tangent_basis(dₙ): the director
 // turns by θ = u₄ d₂ − u₅ d₁ (⊥ dₙ, so exp(θ̂) dₙ = exp_{dₙ}(D θ)); `step` receives exp(θ̂).
 Q root_update(const Q& qn, const Vec<5>& u, Mat3* step);
+// The rotation increments u of a step from qn (in the axes of dₙ) in the axes of d₁ = the
+// director after it: the rotation vector θ = [d₂ −d₁]ₙ u is normal to both dₙ and d₁, so its
+// coordinates in the axes at d₁ are [d₂ −d₁]₁ᵀ θ, exactly. The tangent basis is not transported
+// along (it is built from e₁ or e₂, and switches between them), so the same u in the new axes
+// would be another rotation.
+void transport_increments(const Q& qn, const Q& q1, Eigen::Ref<VecX> u);
 // ∂t/∂u of root_update at t_{n+1}: [I 0; 0 T(θ) [d₂ −d₁]] (bases at tₙ).
 Mat<6, 5> root_update_block(const Q& qn, const Vec<5>& u);
 }  // namespace isoflex::director_node

@@ -92,6 +92,9 @@ class DirectorNodeType final : public NodeType {
   NodeMat root_update_block(CRef qn, CRef u) const override { return dn::root_update_block(qn, u); }
   // (Δt φ̇, Δt ω·d₂, −Δt ω·d₁) with ω = d × ḋ in the basis at q: the last step's increments are
   // in the tangent basis of the last step, which may differ (dn::tangent_basis).
+  void transport_increments(CRef qn, CRef q1, Eigen::Ref<VecX> u) const override {
+    dn::transport_increments(qn, q1, u);
+  }
   bool extrapolate(CRef q, CRef v, double dt, Eigen::Ref<VecX> u) const override {
     const Vec3 d = q.segment<3>(3);
     const Vec3 w = dt * d.cross(Vec3(v.segment<3>(3)));

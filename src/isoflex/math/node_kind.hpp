@@ -63,6 +63,9 @@ class NodeType {
   // Newton predictor; false if the kind has none better than the last step's increments scaled
   // by the step ratio (a frame node: its increments are in a fixed basis).
   virtual bool extrapolate(CRef q, CRef v, double dt, Eigen::Ref<VecX> u) const = 0;
+  // The increments u of a step from qn to q1, rewritten in the bases the next step from q1 uses
+  // (the secant predictor); a kind whose increments are in fixed bases keeps them.
+  virtual void transport_increments(CRef, CRef, Eigen::Ref<VecX>) const {}
 
   // A material point of the node: X in the node's own coordinates (a frame node's body frame,
   // the position X₃ along a director (38); a point node has only itself) and back from a global

@@ -527,6 +527,14 @@ void System::extrapolate_increments(const VecX& q, const VecX& v, double dt, Vec
   }
 }
 
+void System::transport_increments(const VecX& qn, const VecX& q1, VecX& u) const {
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    node_type(i).transport_increments(node_q(qn, i), node_q(q1, i),
+                                      u.segment(root_nu_offset_[r], root_width_[r]));
+  }
+}
+
 SpMat System::update_input_map(const VecX& qn, const VecX& q1, const VecX& u) const {
   const InputBlocks in = update_input_blocks(qn, q1, u);
   Triplets t;

@@ -297,6 +297,9 @@ class System {
   // constant velocity (NodeType::extrapolate; a director node's last increments are in the
   // tangent basis of the last step, which may differ).
   void extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
+  // The increments u of a step from qn to q1 rewritten in the bases of q1, for the free nodes
+  // (NodeType::transport_increments).
+  void transport_increments(const VecX& qn, const VecX& q1, VecX& u) const;
   // ∂F/∂u = P_int(q_{n+1}) (I − 𝒜(q_{n+1}))⁻¹ ℬ̃(qₙ, u), with q1 = update(qn, u) (the caller has
   // it already).
   SpMat update_derivative(const VecX& qn, const VecX& q1, const VecX& u) const;
