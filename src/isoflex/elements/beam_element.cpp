@@ -104,6 +104,13 @@ BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
   }
   if (!p_.isIdentity(0.0))
     for (Block8& h : h_) h = p_ * h * p_.transpose();
+  for (int k = 0; k < 6; ++k) {
+    first_[k] = static_cast<int>(entries_.size());
+    for (int c = 0; c < 8; ++c)
+      for (int b = 0; b < 8; ++b)
+        if (h_[k](b, c) != 0.0) entries_.push_back({b, c, h_[k](b, c)});
+  }
+  first_[6] = static_cast<int>(entries_.size());
 
   Q q0;
   q0 << q0_a, q0_b;
@@ -127,11 +134,24 @@ BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
 }
 
 Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
-  // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column.
-  const Eigen::Map<const Mat<3, 8>> blocks(q.data());
+  // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
+  // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only. The sums are
+  // those of the dense product Q.lazyProduct(h_k) that this replaces, bit for bit: rows 0 and 1
+  // as its packet path (products added in the order of b, fused), row 2 as its coefficient path
+  // (the products summed pairwise, ((p₀ + p₁) + (p₂ + p₃)) + ((p₄ + p₅) + (p₆ + p₇))); the
+  // products of the zeros of h_k are ±0 and change neither.
   Mat<6, kCoords> B;
   for (int k = 0; k < 6; ++k) {
-    const Mat<3, 8> row = blocks.lazyProduct(h_[k]);
+    Mat<3, 8> row = Mat<3, 8>::Zero();
+    double p[8][8] = {};  // [c][b]: the products of row 2
+    for (int n = first_[k]; n < first_[k + 1]; ++n) {
+      const Entry& e = entries_[n];
+      row.block<2, 1>(0, e.c) += e.h * q.segment<2>(3 * e.b);
+      p[e.c][e.b] = q(3 * e.b + 2) * e.h;
+    }
+    for (int c = 0; c < 8; ++c)
+      row(2, c) =
+          ((p[c][0] + p[c][1]) + (p[c][2] + p[c][3])) + ((p[c][4] + p[c][5]) + (p[c][6] + p[c][7]));
     B.row(k) = Eigen::Map<const Vec<kCoords>>(row.data()).transpose();
   }
   return B;
@@ -178,24 +198,42 @@ Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::hessian(const VecX&
 }
 
 VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_dqn1) const {
-  const Q qn = as_element_q(qnx);
-  const Q qn1 = as_element_q(qn1x);
+  Q dv;
+  if (!dv_dqn1) {
+    discrete_gradient(as_element_q(qnx), as_element_q(qn1x), dv, nullptr);
+    return dv;
+  }
+  Mat<kCoords, kCoords> K;
+  discrete_gradient(as_element_q(qnx), as_element_q(qn1x), dv, &K);
+  *dv_dqn1 = K;
+  return dv;
+}
+
+void BeamElement::discrete_gradient(const Q& qn, const Q& qn1, Q& dv,
+                                    Mat<kCoords, kCoords>* dv_dqn1) const {
   const Q qm = 0.5 * (qn + qn1);
   // Average strain Ē = ½(E(qₙ) + E(qₙ₊₁)), not E(q_{n+½}): with E quadratic,
   // E(qₙ₊₁) − E(qₙ) = B(q_{n+½})(qₙ₊₁ − qₙ) exactly, so DV·Δq = ΔV (theory-notes, average strain).
   const Strain6 e_avg = 0.5 * (raw_strains(qn) + raw_strains(qn1)) - e0_;
   const Strain6 S = C_.cwiseProduct(e_avg);
   const Mat<6, kCoords> Bm = strain_jacobian(qm);
-  const Vec<kCoords> dv = L0_ * Bm.transpose() * S + gravity_gradient();
-  if (dv_dqn1) {
-    // ∂/∂qₙ₊₁ [B(q_{n+½})ᵀ S̄] = ½ Σ_k S̄_k H_k + B(q_{n+½})ᵀ C ½ B(qₙ₊₁) — not symmetric.
-    // (Coefficient-wise products: at these fixed sizes they beat the blocked GEMM path.)
-    const Mat<kCoords, 6> BmC = Bm.transpose() * C_.asDiagonal();
-    const Mat<kCoords, kCoords> K =
-        0.5 * L0_ * (weighted_strain_hessian(S) + BmC.lazyProduct(strain_jacobian(qn1)));
-    *dv_dqn1 = K;
-  }
-  return dv;
+  dv = L0_ * Bm.transpose() * S + gravity_gradient();
+  if (!dv_dqn1) return;
+  // ∂/∂qₙ₊₁ [B(q_{n+½})ᵀ S̄] = ½ Σ_k S̄_k H_k + B(q_{n+½})ᵀ C ½ B(qₙ₊₁) — not symmetric.
+  // Bᵀ C B′ as six rank-one updates, column by column (24-vectors: unrolled and vectorized; the
+  // lazy 24 × 6 by 6 × 24 product went coefficient by coefficient), then Σ_k S̄_k h_k ⊗ I₃ on
+  // the diagonals of the 3 × 3 blocks.
+  const Mat<kCoords, 6> BmC = Bm.transpose() * C_.asDiagonal();
+  const Mat<6, kCoords> B1 = strain_jacobian(qn1);
+  Mat<kCoords, kCoords>& K = *dv_dqn1;
+  for (int c = 0; c < kCoords; ++c)
+    K.col(c) = BmC.col(0) * B1(0, c) + BmC.col(1) * B1(1, c) + BmC.col(2) * B1(2, c) +
+               BmC.col(3) * B1(3, c) + BmC.col(4) * B1(4, c) + BmC.col(5) * B1(5, c);
+  Block8 h = Block8::Zero();
+  for (int k = 0; k < 6; ++k) h += S(k) * h_[k];
+  for (int b = 0; b < 8; ++b)
+    for (int c = 0; c < 8; ++c) K.block<3, 3>(3 * b, 3 * c).diagonal().array() += h(b, c);
+  K *= 0.5 * L0_;
 }
 
 VecX BeamElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq, double cv,

@@ -19,6 +19,7 @@
 // Kinetic energy T = ½ ∫ (A_ρ |φ̇|² + M_ρ¹ |ḋ₁|² + M_ρ² |ḋ₂|²) ds: d₃ carries no inertia.
 #include <array>
 #include <optional>
+#include <vector>
 
 #include "isoflex/elements/element.hpp"
 #include "isoflex/math/frame_node.hpp"
@@ -80,6 +81,9 @@ class BeamElement final : public Element {
   // Average-strain discrete gradient (docs/theory/beam.md §4):
   // DV = L₀ B(q_{n+½})ᵀ C ½(E(qₙ) + E(qₙ₊₁)) + ∇V_g, exact in the sense of Gonzalez.
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
+  // The same in fixed sizes, without heap allocation (the reparametrized block assembly,
+  // integrate/reduced_newton_matrix.hpp, calls it once per element and Newton iteration).
+  void discrete_gradient(const Q& qn, const Q& qn1, Q& dv, Mat<kCoords, kCoords>* dv_dqn1) const;
   MatX mass() const override;
   // Kelvin–Voigt viscous force f_v = L₀ B(q)ᵀ η C B(q) q̇ (the strain rates Ė = B(q) q̇ with the
   // stiffnesses times η; docs/theory/beam.md §9). B is linear in q, so ∂(B(q) q̇)/∂q = B(q̇):
@@ -102,6 +106,11 @@ class BeamElement final : public Element {
  private:
   using Strain6 = Vec<6>;  // (Γ₁, Γ₂, Γ₃, K₁, K₂, K₃)
   using Block8 = Mat<8, 8>;
+  // A nonzero h_k(b, c) of a strain form.
+  struct Entry {
+    int b, c;
+    double h;
+  };
 
   // Raw strains ½ qᵀ H_k q (without the reference values).
   Strain6 raw_strains(const Q& q) const;
@@ -120,6 +129,11 @@ class BeamElement final : public Element {
   Strain6 C_;                // diag(GA₁, GA₂, EA, EI₁, EI₂, GJ), DNSM-III (69)
   Strain6 e0_;               // Γ⁰, K⁰
   Block8 p_;                 // the element's blocks from the nodes' (identity but at a corner)
+  // The nonzeros of h_k, column by column: entries_[first_[k] … first_[k + 1]). h_k couples
+  // four of the eight blocks (eight to sixteen of its 64 entries are nonzero), so B(q) and E(q)
+  // from them cost a fifth of the dense 3 × 8 by 8 × 8 products.
+  std::array<int, 7> first_{};
+  std::vector<Entry> entries_;
 };
 
 }  // namespace isoflex::elements

@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "isoflex/elements/beam_element.hpp"
 #include "isoflex/math/frame_node.hpp"
 #include "isoflex/math/rotation.hpp"
 
@@ -120,6 +121,7 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
 
   // Constant parts: element pairs and the mass blocks.
   for (const auto& e : sys.elements()) {
+    beams_.push_back(dynamic_cast<const elements::BeamElement*>(e.get()));
     std::vector<int> ep;
     for (int a : e->nodes())
       for (int b : e->nodes()) ep.push_back(pair(a, b));
@@ -284,6 +286,21 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   const auto& elements = sys_.elements();
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const auto& nodes = elements[e]->nodes();
+    if (const elements::BeamElement* beam = beams_[e]) {
+      // Two frame nodes: the fixed-size kernel, no heap allocation.
+      using BQ = elements::BeamElement::Q;
+      BQ a, b, dv;
+      a << qn.segment<12>(12 * nodes[0]), qn.segment<12>(12 * nodes[1]);
+      b << q1.segment<12>(12 * nodes[0]), q1.segment<12>(12 * nodes[1]);
+      beam->discrete_gradient(a, b, dv, want ? &beam_K_ : nullptr);
+      for (int i = 0; i < 2; ++i) {
+        f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
+        if (want)
+          for (int j = 0; j < 2; ++j)
+            K_[element_pairs_[e][i * 2 + j]] += dt * beam_K_.block<12, 12>(12 * i, 12 * j);
+      }
+      continue;
+    }
     const int ne = static_cast<int>(nodes.size());
     VecX a(12 * ne), b(12 * ne);
     for (int i = 0; i < ne; ++i) {

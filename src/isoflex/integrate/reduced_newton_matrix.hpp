@@ -18,6 +18,7 @@
 // their own) J stays sparse; for deep trees (chains) it fills in as 𝖯 does.
 #include <vector>
 
+#include "isoflex/elements/beam_element.hpp"
 #include "isoflex/integrate/block_lu.hpp"
 #include "isoflex/math/types.hpp"
 #include "isoflex/solve/linear_solver.hpp"
@@ -75,7 +76,8 @@ class ReducedNewtonMatrix {
   std::vector<std::vector<std::pair<int, int>>> row_pairs_;  // node i: (j, pair), sorted by j
   std::vector<int> pair_blocks_;                             // J block of each path combination
   std::vector<std::vector<int>> element_pairs_;              // ne × ne pair indices per element
-  std::vector<Block> mass_;                                  // M blocks of the pairs
+  std::vector<const elements::BeamElement*> beams_;  // the element as a beam (fixed sizes), or null
+  std::vector<Block> mass_;                          // M blocks of the pairs
   struct LoadEntry {
     int pair, row, col;
   };
@@ -96,6 +98,7 @@ class ReducedNewtonMatrix {
   std::vector<Product> products_;
   // Workspace and the kept LU (caches; an integrator is not shared between threads).
   mutable std::vector<Block> K_;
+  mutable Mat<24, 24> beam_K_;
   mutable system::SpMat G_, GGt_;
   mutable solve::FixedPatternLDLT ldlt_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
