@@ -39,6 +39,13 @@ Mat<8, 8> bilinear(const Coeff8& alpha, const Coeff8& beta) {
   return alpha * beta.transpose() + beta * alpha.transpose();
 }
 
+// a·b as a value the compiler may not fuse into a following addition (-ffp-contract=fast).
+inline double unfused_product(double a, double b) {
+  double p = a * b;
+  asm("" : "+x"(p));
+  return p;
+}
+
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("BeamElement: " + message);
 }
@@ -135,25 +142,27 @@ BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
 
 Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
   // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
-  // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only. The sums are
-  // those of the dense product Q.lazyProduct(h_k) that this replaces, bit for bit: rows 0 and 1
-  // as its packet path (products added in the order of b, fused), row 2 as its coefficient path
-  // (the products summed pairwise, ((p₀ + p₁) + (p₂ + p₃)) + ((p₄ + p₅) + (p₆ + p₇))); the
-  // products of the zeros of h_k are ±0 and change neither.
-  Mat<6, kCoords> B;
-  for (int k = 0; k < 6; ++k) {
-    Mat<3, 8> row = Mat<3, 8>::Zero();
-    double p[8][8] = {};  // [c][b]: the products of row 2
-    for (int n = first_[k]; n < first_[k + 1]; ++n) {
-      const Entry& e = entries_[n];
-      row.block<2, 1>(0, e.c) += e.h * q.segment<2>(3 * e.b);
-      p[e.c][e.b] = q(3 * e.b + 2) * e.h;
+  // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_ runs
+  // column by column, b ascending). The sums are those of the dense product Q.lazyProduct(h_k)
+  // that this replaces, bit for bit: rows 0 and 1 as its packet path (fused, in the order of
+  // b), row 2 as its coefficient path (the products unfused and summed pairwise,
+  // ((p₀ + p₁) + (p₂ + p₃)) + ((p₄ + p₅) + (p₆ + p₇))); the products of the zeros of h_k are ±0
+  // and change neither.
+  Mat<6, kCoords> B = Mat<6, kCoords>::Zero();
+  for (int k = 0; k < 6; ++k)
+    for (int n = first_[k]; n < first_[k + 1];) {
+      const int c = entries_[n].c;
+      double x = 0.0, y = 0.0, p[8] = {};
+      for (; n < first_[k + 1] && entries_[n].c == c; ++n) {
+        const Entry& e = entries_[n];
+        x = std::fma(q(3 * e.b), e.h, x);
+        y = std::fma(q(3 * e.b + 1), e.h, y);
+        p[e.b] = unfused_product(q(3 * e.b + 2), e.h);
+      }
+      B(k, 3 * c) = x;
+      B(k, 3 * c + 1) = y;
+      B(k, 3 * c + 2) = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
     }
-    for (int c = 0; c < 8; ++c)
-      row(2, c) =
-          ((p[c][0] + p[c][1]) + (p[c][2] + p[c][3])) + ((p[c][4] + p[c][5]) + (p[c][6] + p[c][7]));
-    B.row(k) = Eigen::Map<const Vec<kCoords>>(row.data()).transpose();
-  }
   return B;
 }
 

@@ -59,7 +59,10 @@ Mat<12, 6> null_space(const Q& q) {
 }
 
 Q update(const Q& qn, const Vec<6>& u) {
-  const Mat3 R = rodrigues(u.tail<3>());
+  return update(qn, u, rodrigues(u.tail<3>()));
+}
+
+Q update(const Q& qn, const Vec<6>& u, const Mat3& R) {
   Q q;
   q.head<3>() = qn.head<3>() + u.head<3>();
   for (int i = 0; i < 3; ++i) q.segment<3>(3 + 3 * i) = R * director(qn, i);

@@ -30,6 +30,8 @@ void add_constraint_hessian(const Vec<6>& lambda, Mat<12, 12>& H);
 Mat<12, 6> null_space(const Q& q);
 // Nodal reparametrization (37): φ + u_φ, exp(θ̂) d_I.
 Q update(const Q& qn, const Vec<6>& u);
+// The same with R = rodrigues(θ) given (a caller that needs the rotation too computes it once).
+Q update(const Q& qn, const Vec<6>& u, const Mat3& R);
 // ∂update/∂u = P(q_{n+1}) diag(I, T(θ)).
 Mat<12, 6> update_derivative(const Q& qn, const Vec<6>& u);
 }  // namespace isoflex::frame_node

@@ -36,7 +36,7 @@ class FrameNodeType final : public NodeType {
   NodeVec free_force(CRef, const Vec<6>& y) const override { return y; }
   NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
     step = rodrigues(u.segment<3>(3));
-    return fn::update(qn, u);
+    return fn::update(qn, u, step);
   }
   NodeMat root_update_block(CRef, CRef u) const override {
     Mat<6, 6> B = Mat<6, 6>::Identity();

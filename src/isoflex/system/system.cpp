@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
 #include <map>
 
@@ -29,6 +30,13 @@ namespace {
 
 [[noreturn]] void fail(const model::Source& s, const std::string& what, const std::string& msg) {
   compile_fail(s, what, msg);
+}
+
+// a·b as a value the compiler may not fuse into a following addition (-ffp-contract=fast).
+inline double unfused_product(double a, double b) {
+  double p = a * b;
+  asm("" : "+x"(p));
+  return p;
 }
 
 // Templated so that fixed-size blocks are not copied into a heap-allocated MatX.
@@ -496,7 +504,46 @@ SpMat System::internal_null_space(const VecX& q) const {
 }
 
 SpMat System::tree_null_space(const VecX& q) const {
-  return internal_null_space(q) * twist_map(q);
+  // P_int E (57), column by column of E, without P_int as a sparse matrix and without Eigen's
+  // sparse product (per step in the residual scale of the reparametrized formulation). The
+  // entries, their order and their sums are the product's: an entry wherever a stored (nonzero)
+  // entry of P_int meets one of E, the products summed (unfused) over E's column in the order of
+  // its rows.
+  const SpMat E = twist_map(q);
+  std::vector<NodeMat> Pint(static_cast<std::size_t>(node_count()));
+  for (int i = 0; i < node_count(); ++i) Pint[i] = node_type(i).twist_null_space(node_q(q, i));
+  SpMat P(n(), k_);
+  P.reserve(2 * E.nonZeros() * kMaxCoordinates / 6);
+  std::vector<double> values(static_cast<std::size_t>(n()));
+  std::vector<char> seen(static_cast<std::size_t>(n()), 0);
+  std::vector<int> rows;
+  for (int j = 0; j < E.outerSize(); ++j) {
+    rows.clear();
+    for (SpMat::InnerIterator it(E, j); it; ++it) {
+      const int i = static_cast<int>(it.row()) / 6, t = static_cast<int>(it.row()) % 6;
+      const NodeMat& Pi = Pint[i];
+      for (int r = 0; r < Pi.rows(); ++r) {
+        const double x = Pi(r, t);
+        if (x == 0.0) continue;  // not stored in P_int
+        const int row = nodes_[i].q_offset + r;
+        if (!seen[row]) {
+          seen[row] = 1;
+          values[row] = x * it.value();
+          rows.push_back(row);
+        } else {
+          values[row] += unfused_product(x, it.value());
+        }
+      }
+    }
+    std::sort(rows.begin(), rows.end());
+    P.startVec(j);
+    for (int row : rows) {
+      P.insertBack(row, j) = values[row];
+      seen[row] = 0;
+    }
+  }
+  P.finalize();
+  return P;
 }
 
 VecX System::update(const VecX& qn, const VecX& u) const {
