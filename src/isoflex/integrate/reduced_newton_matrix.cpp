@@ -308,10 +308,16 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   const bool want = Jout != nullptr;
   if (want) {
     K_.resize(pairs_.size());
-    for (std::size_t p = 0; p < pairs_.size(); ++p) K_[p] = (2.0 / dt) * mass_[p];
+    // (2/Δt) M of the pairs, kept while Δt is the same (the same products every iteration).
+    if (scaled_mass_dt_ != dt) {
+      scaled_mass_.resize(pairs_.size());
+      for (std::size_t p = 0; p < pairs_.size(); ++p) scaled_mass_[p] = (2.0 / dt) * mass_[p];
+      scaled_mass_dt_ = dt;
+    }
+    K_ = scaled_mass_;
   }
   VecX f = VecX::Zero(n);
-  MatX Ke;
+  MatX& Ke = Ke_;
   const auto& elements = sys_.elements();
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const auto& nodes = elements[e]->nodes();
@@ -331,7 +337,9 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
       continue;
     }
     const int ne = static_cast<int>(nodes.size());
-    VecX a(12 * ne), b(12 * ne);
+    VecX &a = a_, &b = b_;
+    a.resize(12 * ne);
+    b.resize(12 * ne);
     for (int i = 0; i < ne; ++i) {
       a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
       b.segment<12>(12 * i) = q1.segment<12>(12 * nodes[i]);
@@ -344,7 +352,7 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
           K_[element_pairs_[e][i * ne + j]] += dt * Ke.block<12, 12>(12 * i, 12 * j);
     }
   }
-  std::vector<double> tangent;
+  std::vector<double>& tangent = tangent_;
   for (std::size_t l = 0; l < sys_.loads().size(); ++l) {
     const loads::Load& L = *sys_.loads()[l];
     const std::vector<int>& nodes = L.nodes();
@@ -379,8 +387,7 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   for (int i = 0; i < N; ++i) {
     const Mat<6, 12> Gi = fn::jacobian(qm.segment<12>(12 * i));
     const int* sl = &node_slots_[72 * i];
-    for (int c = 0; c < 12; ++c)
-      for (int r = 0; r < 6; ++r) put(sl[6 * c + r], Gi(r, c));
+    for (int e = 0; e < 72; ++e) put(sl[e], Gi.data()[e]);  // column-major, as the slots
   }
   for (std::size_t j = 0; j < sys_.joints().size(); ++j) {
     const auto& J = sys_.joints()[j];
@@ -400,7 +407,8 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     for (const Product& p : products_) av[p.target] += gv[p.a] * gv[p.b];
     lambda = ldlt_.solve(GGt_, -(G_ * r0) / dt);
   }
-  VecX l = VecX::Zero(sys_.m_all());
+  VecX& l = l_;
+  l.setZero(sys_.m_all());
   for (std::size_t i = 0; i < selected_all_.size(); ++i) l(selected_all_[i]) = lambda(i);
   for (int i = 0; i < N; ++i) {
     Block H = Block::Zero();
@@ -422,7 +430,8 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   // E(q_{n+½}), E(q_{n+1}) D(u) and the internal null spaces (31) of both configurations.
   twist_blocks(qm, Em_);
   twist_blocks(q1, E1_);
-  std::vector<Mat3> T(groups_.size());
+  std::vector<Mat3>& T = T_;
+  T.resize(groups_.size());
   for (std::size_t g = 0; g < groups_.size(); ++g)
     if (groups_[g].rotvec >= 0)
       T[g] = rodrigues_tangent(u.segment<3>(groups_[g].offset + groups_[g].rotvec));
@@ -432,7 +441,9 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
       if (G.rotvec >= 0)
         E1_[i][b].middleCols<3>(G.rotvec) = E1_[i][b].middleCols<3>(G.rotvec) * T[path_[i][b]];
     }
-  std::vector<Mat<12, 6>> Pm(N), P1(N);
+  std::vector<Mat<12, 6>>&Pm = Pm_, &P1 = P1_;
+  Pm.resize(N);
+  P1.resize(N);
   for (int i = 0; i < N; ++i) {
     Pm[i] = fn::null_space(qm.segment<12>(12 * i));
     P1[i] = fn::null_space(q1.segment<12>(12 * i));
@@ -450,9 +461,15 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     const int lj = static_cast<int>(pj.size());
     for (int b = 0; b < lj; ++b) {
       const Twist KE = Kt.lazyProduct(E1_[P.j][b]);
-      for (std::size_t a = 0; a < pi.size(); ++a)
-        J_[pair_blocks_[P.first + static_cast<int>(a) * lj + b]] +=
-            Em_[P.i][a].transpose().lazyProduct(KE);
+      // A root's own block of E(q_{n+½}) is the identity: Iᵀ KE is KE exactly.
+      const bool root = parent_joint_[P.i] < 0;
+      for (std::size_t a = 0; a < pi.size(); ++a) {
+        Small& Jb = J_[pair_blocks_[P.first + static_cast<int>(a) * lj + b]];
+        if (root)
+          Jb += KE;
+        else
+          Jb += Em_[P.i][a].transpose().lazyProduct(KE);
+      }
     }
   }
 

@@ -99,6 +99,13 @@ class ReducedNewtonMatrix {
   // Workspace and the kept LU (caches; an integrator is not shared between threads).
   mutable std::vector<Block> K_;
   mutable Mat<24, 24> beam_K_;
+  mutable std::vector<Block> scaled_mass_;  // (2/Δt) M of the pairs at Δt = scaled_mass_dt_
+  mutable double scaled_mass_dt_ = 0.0;
+  mutable MatX Ke_;
+  mutable VecX a_, b_, l_;
+  mutable std::vector<double> tangent_;
+  mutable std::vector<Mat3> T_;
+  mutable std::vector<Mat<12, 6>> Pm_, P1_;
   mutable system::SpMat G_, GGt_;
   mutable solve::FixedPatternLDLT ldlt_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
