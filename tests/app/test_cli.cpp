@@ -70,6 +70,28 @@ TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
   EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
 }
 
+// --threads on a model without Kirchhoff–Love patches (the only elements assembled on threads) is
+// said on stderr and in summary.json, not silently ignored; without the flag nothing is said.
+TEST(Cli, ThreadsThatCannotBeUsedAreSaid) {
+  const fs::path d = temp_dir("threads");
+  std::ofstream(d / "m.yaml") << kGood;
+  const auto r =
+      run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() + " --threads 2");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string note =
+      "--threads 2: only Kirchhoff-Love shells assemble on threads; this "
+      "model has none, it ran on 1";
+  EXPECT_NE(r.out.find("note: " + note), std::string::npos) << r.out;
+  const std::string s = read(d / "out/summary.json");
+  EXPECT_NE(s.find("\"threads\": 1,\n  \"threads_note\": \"" + note + "\""), std::string::npos)
+      << s;
+  const auto plain = run("run " + (d / "m.yaml").string() + " -o " + (d / "out2").string());
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  EXPECT_EQ(plain.out.find("note:"), std::string::npos) << plain.out;
+  EXPECT_EQ(read(d / "out2/summary.json").find("threads_note"), std::string::npos);
+  fs::remove_all(d);
+}
+
 // `history: false` writes no time histories (history.csv, probes.csv) and `vtk_every: 0` no VTK;
 // summary.json, with the probes' final values, is always written.
 TEST(Cli, OutputSwitches) {

@@ -536,6 +536,19 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.newton_failed_starts = 0;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
+  // Only the Kirchhoff–Love patches assemble on threads (bodies, beams and director shells on
+  // one): a --threads that cannot be used is said, not silently ignored.
+  if (o.threads > sum.threads)
+    sum.threads_note = sys.kl_patches().empty()
+                           ? fmt::format(
+                                 "--threads {}: only Kirchhoff-Love shells assemble on "
+                                 "threads; this model has none, it ran on 1",
+                                 o.threads)
+                           : fmt::format(
+                                 "--threads {}: the patches ran on {} (one thread per "
+                                 "~2000 quadrature points at most)",
+                                 o.threads, sum.threads);
+  if (sum.threads_note) fmt::print(err, "note: {}\n", *sum.threads_note);
   // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
   // actuators: energy + dissipated energy − their work; with joint drivers also − theirs).
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&

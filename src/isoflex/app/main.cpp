@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   r->add_option("--max-memory", run_memory, memory_help);
   r->add_option("--threads", run.threads,
                 "threads of the Kirchhoff-Love shell assembly (default 0: all cores; results "
-                "are the same for any number)")
+                "are the same for any number; other elements assemble on one, and a run says "
+                "so when more were asked for)")
       ->check(CLI::NonNegativeNumber);
 
   std::string check_file;

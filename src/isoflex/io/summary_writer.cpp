@@ -95,6 +95,7 @@ std::string summary_json(const RunSummary& s) {
   real("t_end", s.t_end);
   real("wall_time_s", s.wall_time_s);
   integer("threads", s.threads);
+  if (s.threads_note) str("threads_note", *s.threads_note);
   real("max_constraint_violation", s.max_constraint_violation);
   real("energy_initial", s.energy_initial);
   real("energy_final", s.energy_final);

@@ -27,6 +27,8 @@ struct RunSummary {
   double t_end = 0.0;
   double wall_time_s = 0.0;
   int threads = 1;  // threads the element assembly ran on (Kirchhoff–Love shells; 1 otherwise)
+  // Why fewer threads ran than `--threads` asked for, when it asked for more than one.
+  std::optional<std::string> threads_note;
   double max_constraint_violation = 0.0;
   double energy_initial = 0.0;
   double energy_final = 0.0;
