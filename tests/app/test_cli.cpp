@@ -70,6 +70,35 @@ TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
   EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
 }
 
+// A rerun into the same folder removes the earlier run's VTK series (results.pvd, vtk/*.vtu), so
+// that ParaView never shows steps of another run; other files in vtk/ are left alone.
+TEST(Cli, ARerunRemovesTheEarlierVtkSeries) {
+  const fs::path d = temp_dir("rerun");
+  const fs::path out = d / "out";
+  std::ofstream(d / "long.yaml") << kGood;
+  std::ofstream(d / "short.yaml") << with(kGood, "t_end: 0.2", "t_end: 0.05");
+  std::ofstream(d / "none.yaml") << with(kGood, "solver: {dt: 0.01, t_end: 0.2}",
+                                         "solver: {dt: 0.01, t_end: 0.2}\noutput: {vtk_every: 0}");
+  const auto count_vtu = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(out / "vtk")) n += e.path().extension() == ".vtu";
+    return n;
+  };
+  ASSERT_EQ(run("run " + (d / "long.yaml").string() + " -o " + out.string()).code, 0);
+  const int long_run = count_vtu();
+  std::ofstream(out / "vtk" / "notes.txt") << "mine";
+  ASSERT_EQ(run("run " + (d / "short.yaml").string() + " -o " + out.string()).code, 0);
+  const int short_run = count_vtu();
+  EXPECT_EQ(long_run, 21);  // t = 0, 0.01, …, 0.2
+  EXPECT_EQ(short_run, 6);
+  EXPECT_EQ(read(out / "results.pvd").find("step_000006"), std::string::npos);
+  ASSERT_EQ(run("run " + (d / "none.yaml").string() + " -o " + out.string()).code, 0);
+  EXPECT_EQ(count_vtu(), 0);
+  EXPECT_FALSE(fs::exists(out / "results.pvd"));
+  EXPECT_TRUE(fs::exists(out / "vtk" / "notes.txt"));
+  fs::remove_all(d);
+}
+
 // --threads on a model without Kirchhoff–Love patches (the only elements assembled on threads) is
 // said on stderr and in summary.json, not silently ignored; without the flag nothing is said.
 TEST(Cli, ThreadsThatCannotBeUsedAreSaid) {
