@@ -70,6 +70,35 @@ TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
   EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
 }
 
+// --set KEY=VALUE sets model values over the file's (repeatable; io/model_overrides.hpp), run and
+// check alike; summary.json lists them; a bad one is exit code 2 with a located message.
+TEST(Cli, SetOverridesModelValues) {
+  const fs::path d = temp_dir("set");
+  std::ofstream(d / "m.yaml") << kGood;
+  const auto r =
+      run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() +
+          " --set solver.t_end=0.05 --set 'bodies[bob].mass=2' --set output.vtk_every=0");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string s = read(d / "out/summary.json");
+  EXPECT_NE(s.find("\"steps\": 5,"), std::string::npos) << s;
+  EXPECT_NE(s.find("\"set\": [\"solver.t_end=0.05\", \"bodies[bob].mass=2\", "
+                   "\"output.vtk_every=0\"],"),
+            std::string::npos)
+      << s;
+  EXPECT_FALSE(fs::exists(d / "out/results.pvd"));
+  const auto c = run("check " + (d / "m.yaml").string() + " --set 'bodies[0].mass=-1'");
+  EXPECT_EQ(c.code, 2);
+  EXPECT_NE(c.out.find("bodies[0].mass: must be > 0, got -1 (the value of --set "
+                       "bodies[0].mass=-1)"),
+            std::string::npos)
+      << c.out;
+  const auto bad = run("run " + (d / "m.yaml").string() + " --set solver.dt");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("error: --set \"solver.dt\": expected KEY=VALUE"), std::string::npos)
+      << bad.out;
+  fs::remove_all(d);
+}
+
 // A rerun into the same folder removes the earlier run's VTK series (results.pvd, vtk/*.vtu), so
 // that ParaView never shows steps of another run; other files in vtk/ are left alone.
 TEST(Cli, ARerunRemovesTheEarlierVtkSeries) {

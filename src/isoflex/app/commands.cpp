@@ -72,12 +72,13 @@ struct Loaded {
 // all the same, `out_of_memory` (if given) receives the message.
 std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o,
                            const std::optional<double>& max_memory,
+                           const std::vector<io::ModelOverride>& overrides,
                            std::string* out_of_memory = nullptr) {
   const MemoryLimit limit = memory_limit(max_memory);
   const char* doing = "reading";
   double estimate = 0;
   try {
-    Loaded l{io::read_model(file, {limit.bytes, limit.text}), nullptr, {}, limit};
+    Loaded l{io::read_model(file, {limit.bytes, limit.text, overrides}), nullptr, {}, limit};
     model::Solver& s = l.model.solver;
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
@@ -306,7 +307,7 @@ std::optional<double> parse_memory_size(const std::string& text) {
 
 int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                   const CheckOptions& options) {
-  auto l = load(file, err, nullptr, options.max_memory);
+  auto l = load(file, err, nullptr, options.max_memory, options.overrides);
   if (!l) return kExitBadInput;
   fmt::print(out, "model            {}\n", file);
   fmt::print(out, "memory           about {} to run, {} to check ({}){}\n",
@@ -480,7 +481,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                              std::filesystem::path(o.model_file).parent_path().filename()
                        : std::filesystem::path(o.outdir);
   std::string out_of_memory;
-  auto l = load(o.model_file, err, &o, o.max_memory, &out_of_memory);
+  auto l = load(o.model_file, err, &o, o.max_memory, o.overrides, &out_of_memory);
   if (!l && !out_of_memory.empty()) {
     // The model was accepted but its compilation ran out of memory: a run that failed, with
     // summary.json saying why (where the output folder can be made).
@@ -521,6 +522,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
 
   io::RunSummary sum;
   sum.model = o.model_file;
+  for (const auto& s : o.overrides) sum.set.push_back(s.key + "=" + s.value);
   sum.formulation = statics ? "static"
                     : m.solver.integrator == model::Integrator::energy_momentum
                         ? model::to_string(m.solver.formulation)

@@ -83,6 +83,12 @@ std::string summary_json(const RunSummary& s) {
   };
 
   str("model", s.model);
+  if (!s.set.empty()) {
+    key("set");
+    std::string list;
+    for (const std::string& v : s.set) list += (list.empty() ? "" : ", ") + json_string(v);
+    fmt::format_to(it, "[{}],\n", list);
+  }
   str("formulation", s.formulation);
   integer("n_coordinates", s.n_coordinates);
   integer("n_constraints", s.n_constraints);

@@ -13,6 +13,7 @@ namespace isoflex::io {
 
 struct RunSummary {
   std::string model;
+  std::vector<std::string> set;  // the --set KEY=VALUE of the run, in order (written if any)
   std::string formulation;
   int n_coordinates = 0;
   int n_constraints = 0;
