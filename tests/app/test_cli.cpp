@@ -70,6 +70,86 @@ TEST(Cli, RunWritesHistorySummaryProbesAndVtk) {
   EXPECT_TRUE(fs::exists(d / "out/probes.csv"));
 }
 
+// --set KEY=VALUE sets model values over the file's (repeatable; io/model_overrides.hpp), run and
+// check alike; summary.json lists them; a bad one is exit code 2 with a located message.
+TEST(Cli, SetOverridesModelValues) {
+  const fs::path d = temp_dir("set");
+  std::ofstream(d / "m.yaml") << kGood;
+  const auto r =
+      run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() +
+          " --set solver.t_end=0.05 --set 'bodies[bob].mass=2' --set output.vtk_every=0");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string s = read(d / "out/summary.json");
+  EXPECT_NE(s.find("\"steps\": 5,"), std::string::npos) << s;
+  EXPECT_NE(s.find("\"set\": [\"solver.t_end=0.05\", \"bodies[bob].mass=2\", "
+                   "\"output.vtk_every=0\"],"),
+            std::string::npos)
+      << s;
+  EXPECT_FALSE(fs::exists(d / "out/results.pvd"));
+  const auto c = run("check " + (d / "m.yaml").string() + " --set 'bodies[0].mass=-1'");
+  EXPECT_EQ(c.code, 2);
+  EXPECT_NE(c.out.find("bodies[0].mass: must be > 0, got -1 (the value of --set "
+                       "bodies[0].mass=-1)"),
+            std::string::npos)
+      << c.out;
+  const auto bad = run("run " + (d / "m.yaml").string() + " --set solver.dt");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("error: --set \"solver.dt\": expected KEY=VALUE"), std::string::npos)
+      << bad.out;
+  fs::remove_all(d);
+}
+
+// A rerun into the same folder removes the earlier run's VTK series (results.pvd, vtk/*.vtu), so
+// that ParaView never shows steps of another run; other files in vtk/ are left alone.
+TEST(Cli, ARerunRemovesTheEarlierVtkSeries) {
+  const fs::path d = temp_dir("rerun");
+  const fs::path out = d / "out";
+  std::ofstream(d / "long.yaml") << kGood;
+  std::ofstream(d / "short.yaml") << with(kGood, "t_end: 0.2", "t_end: 0.05");
+  std::ofstream(d / "none.yaml") << with(kGood, "solver: {dt: 0.01, t_end: 0.2}",
+                                         "solver: {dt: 0.01, t_end: 0.2}\noutput: {vtk_every: 0}");
+  const auto count_vtu = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(out / "vtk")) n += e.path().extension() == ".vtu";
+    return n;
+  };
+  ASSERT_EQ(run("run " + (d / "long.yaml").string() + " -o " + out.string()).code, 0);
+  const int long_run = count_vtu();
+  std::ofstream(out / "vtk" / "notes.txt") << "mine";
+  ASSERT_EQ(run("run " + (d / "short.yaml").string() + " -o " + out.string()).code, 0);
+  const int short_run = count_vtu();
+  EXPECT_EQ(long_run, 21);  // t = 0, 0.01, …, 0.2
+  EXPECT_EQ(short_run, 6);
+  EXPECT_EQ(read(out / "results.pvd").find("step_000006"), std::string::npos);
+  ASSERT_EQ(run("run " + (d / "none.yaml").string() + " -o " + out.string()).code, 0);
+  EXPECT_EQ(count_vtu(), 0);
+  EXPECT_FALSE(fs::exists(out / "results.pvd"));
+  EXPECT_TRUE(fs::exists(out / "vtk" / "notes.txt"));
+  fs::remove_all(d);
+}
+
+// --threads on a model without Kirchhoff–Love patches (the only elements assembled on threads) is
+// said on stderr and in summary.json, not silently ignored; without the flag nothing is said.
+TEST(Cli, ThreadsThatCannotBeUsedAreSaid) {
+  const fs::path d = temp_dir("threads");
+  std::ofstream(d / "m.yaml") << kGood;
+  const auto r =
+      run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string() + " --threads 2");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string note =
+      "--threads 2: only Kirchhoff-Love shells assemble on threads; this "
+      "model has none, it ran on 1";
+  EXPECT_NE(r.out.find("note: " + note), std::string::npos) << r.out;
+  const std::string s = read(d / "out/summary.json");
+  EXPECT_NE(s.find("\"threads\": 1,\n  \"threads_note\": \"" + note + "\""), std::string::npos)
+      << s;
+  const auto plain = run("run " + (d / "m.yaml").string() + " -o " + (d / "out2").string());
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  EXPECT_EQ(plain.out.find("note:"), std::string::npos) << plain.out;
+  EXPECT_EQ(read(d / "out2/summary.json").find("threads_note"), std::string::npos);
+  fs::remove_all(d);
+}
+
 // `history: false` writes no time histories (history.csv, probes.csv) and `vtk_every: 0` no VTK;
 // summary.json, with the probes' final values, is always written.
 TEST(Cli, OutputSwitches) {

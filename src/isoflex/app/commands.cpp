@@ -72,12 +72,13 @@ struct Loaded {
 // all the same, `out_of_memory` (if given) receives the message.
 std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o,
                            const std::optional<double>& max_memory,
+                           const std::vector<io::ModelOverride>& overrides,
                            std::string* out_of_memory = nullptr) {
   const MemoryLimit limit = memory_limit(max_memory);
   const char* doing = "reading";
   double estimate = 0;
   try {
-    Loaded l{io::read_model(file, {limit.bytes, limit.text}), nullptr, {}, limit};
+    Loaded l{io::read_model(file, {limit.bytes, limit.text, overrides}), nullptr, {}, limit};
     model::Solver& s = l.model.solver;
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
@@ -306,7 +307,7 @@ std::optional<double> parse_memory_size(const std::string& text) {
 
 int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                   const CheckOptions& options) {
-  auto l = load(file, err, nullptr, options.max_memory);
+  auto l = load(file, err, nullptr, options.max_memory, options.overrides);
   if (!l) return kExitBadInput;
   fmt::print(out, "model            {}\n", file);
   fmt::print(out, "memory           about {} to run, {} to check ({}){}\n",
@@ -480,7 +481,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                              std::filesystem::path(o.model_file).parent_path().filename()
                        : std::filesystem::path(o.outdir);
   std::string out_of_memory;
-  auto l = load(o.model_file, err, &o, o.max_memory, &out_of_memory);
+  auto l = load(o.model_file, err, &o, o.max_memory, o.overrides, &out_of_memory);
   if (!l && !out_of_memory.empty()) {
     // The model was accepted but its compilation ran out of memory: a run that failed, with
     // summary.json saying why (where the output folder can be made).
@@ -521,6 +522,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
 
   io::RunSummary sum;
   sum.model = o.model_file;
+  for (const auto& s : o.overrides) sum.set.push_back(s.key + "=" + s.value);
   sum.formulation = statics ? "static"
                     : m.solver.integrator == model::Integrator::energy_momentum
                         ? model::to_string(m.solver.formulation)
@@ -536,6 +538,19 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.newton_failed_starts = 0;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
+  // Only the Kirchhoff–Love patches assemble on threads (bodies, beams and director shells on
+  // one): a --threads that cannot be used is said, not silently ignored.
+  if (o.threads > sum.threads)
+    sum.threads_note = sys.kl_patches().empty()
+                           ? fmt::format(
+                                 "--threads {}: only Kirchhoff-Love shells assemble on "
+                                 "threads; this model has none, it ran on 1",
+                                 o.threads)
+                           : fmt::format(
+                                 "--threads {}: the patches ran on {} (one thread per "
+                                 "~2000 quadrature points at most)",
+                                 o.threads, sum.threads);
+  if (sum.threads_note) fmt::print(err, "note: {}\n", *sum.threads_note);
   // Energy is conserved from t = 0 only by a dynamic run without loads of any kind (with
   // actuators: energy + dissipated energy − their work; with joint drivers also − theirs).
   const bool conservative = !statics && m.loads.empty() && m.distributed_loads.empty() &&

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "isoflex/io/model_overrides.hpp"
 #include "isoflex/model/model.hpp"
 
 namespace isoflex::app {
@@ -24,10 +26,13 @@ struct RunOptions {
   // The memory the run may use, bytes (--max-memory); default: MemAvailable of /proc/meminfo.
   // A model whose estimate (system/memory_estimate.hpp) exceeds it is refused (exit 2).
   std::optional<double> max_memory;
+  // --set KEY=VALUE: model values over the file's (io/model_overrides.hpp), before --dt etc.
+  std::vector<io::ModelOverride> overrides;
 };
 
 struct CheckOptions {
-  std::optional<double> max_memory;  // as RunOptions::max_memory
+  std::optional<double> max_memory;          // as RunOptions::max_memory
+  std::vector<io::ModelOverride> overrides;  // as RunOptions::overrides
 };
 
 int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);

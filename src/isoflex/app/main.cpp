@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <iostream>
 #include <new>
+#include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "isoflex/app/cad_info.hpp"
 #include "isoflex/app/commands.hpp"
@@ -38,13 +40,21 @@ int main(int argc, char** argv) {
   r->add_option("--max-memory", run_memory, memory_help);
   r->add_option("--threads", run.threads,
                 "threads of the Kirchhoff-Love shell assembly (default 0: all cores; results "
-                "are the same for any number)")
+                "are the same for any number; other elements assemble on one, and a run says "
+                "so when more were asked for)")
       ->check(CLI::NonNegativeNumber);
+
+  std::vector<std::string> run_set, check_set;
+  const char* set_help =
+      "KEY=VALUE: a model value over the file's, repeatable; KEY a path like solver.dt, "
+      "bodies[0].mass or bodies[crank].mass, VALUE YAML (2, [0, 0, 1], \"sin(t)\")";
+  r->add_option("--set", run_set, set_help)->allow_extra_args(false);
 
   std::string check_file;
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");
   c->add_option("MODEL", check_file, "model file (YAML)")->required();
   c->add_option("--max-memory", check_memory, memory_help);
+  c->add_option("--set", check_set, set_help)->allow_extra_args(false);
 
   std::string cad_file;
   auto* ci = app.add_subcommand("cad-info",
@@ -60,6 +70,17 @@ int main(int argc, char** argv) {
   }
   if (!formulation.empty()) run.formulation = isoflex::model::formulation_from_string(formulation);
   isoflex::app::CheckOptions check;
+  for (auto [texts, target] :
+       {std::pair{&run_set, &run.overrides}, std::pair{&check_set, &check.overrides}}) {
+    for (const std::string& t : *texts) {
+      try {
+        target->push_back(isoflex::io::parse_model_override(t));
+      } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return isoflex::app::kExitBadInput;
+      }
+    }
+  }
   for (auto [text, target] :
        {std::pair{&run_memory, &run.max_memory}, std::pair{&check_memory, &check.max_memory}}) {
     if (text->empty()) continue;

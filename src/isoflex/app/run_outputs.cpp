@@ -21,10 +21,30 @@ std::string path_column(const model::Model& m) {
   }
   return {};
 }
+
+// The VTK series of an earlier run into the same folder: results.pvd and vtk/*.vtu. Left there,
+// ParaView would show its later steps after a shorter run's, or the whole old series after a run
+// without VTK output. Other files are the user's.
+void remove_earlier_vtk_series(const std::filesystem::path& outdir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  if (fs::is_regular_file(outdir / "results.pvd", ec)) stale.push_back(outdir / "results.pvd");
+  if (fs::is_directory(outdir / "vtk", ec)) {
+    for (fs::directory_iterator it(outdir / "vtk", ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.ends_with(".vtu")) stale.push_back(it->path());
+    }
+    if (ec) throw io::OutputError(outdir / "vtk", ec.message(), "list");
+  }
+  for (const auto& p : stale)
+    if (!fs::remove(p, ec) && ec) throw io::OutputError(p, ec.message(), "remove");
+}
 }  // namespace
 
 RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
                        std::FILE* progress) {
+  remove_earlier_vtk_series(outdir);
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv, reactions.csv
     observers_.push_back(
         std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m), path_column(m),

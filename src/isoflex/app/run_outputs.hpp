@@ -1,8 +1,10 @@
 #pragma once
 // The outputs of one run, fed with every snapshot: history.csv, probes.csv, resultants.csv, the
-// VTK series (as the model's `output` asks) and the progress bar. A file that cannot be written
-// is an io::OutputError (exit code 4), also from the constructor; finish() closes every output
-// even after one of them failed, so that each leaves complete files.
+// VTK series (as the model's `output` asks) and the progress bar. The VTK series of an earlier
+// run into the same folder (results.pvd, vtk/*.vtu) is removed first, whether or not this run
+// writes one. A file that cannot be written (or removed) is an io::OutputError (exit code 4),
+// also from the constructor; finish() closes every output even after one of them failed, so
+// that each leaves complete files.
 #include <cstdio>
 #include <filesystem>
 #include <memory>

@@ -1199,7 +1199,22 @@ model::Model read_model_string(const std::string& yaml, const std::string& name_
   } catch (const YAML::ParserException& e) {
     throw ModelError(name_for_messages, e.mark.line >= 0 ? e.mark.line + 1 : 1, "", e.msg);
   }
-  return Reader(name_for_messages, options).read(root);
+  const std::vector<std::string> set =
+      apply_model_overrides(root, options.overrides, name_for_messages);
+  try {
+    return Reader(name_for_messages, options).read(root);
+  } catch (const ModelError& e) {
+    for (std::size_t k = 0; k < set.size(); ++k) {
+      const std::string& s = set[k];
+      const bool below = e.key().size() > s.size() && e.key().compare(0, s.size(), s) == 0 &&
+                         (e.key()[s.size()] == '.' || e.key()[s.size()] == '[');
+      if (e.key() == s || below)
+        throw ModelError(name_for_messages, 0, e.key(),
+                         e.message() + " (the value of --set " + options.overrides[k].key + "=" +
+                             options.overrides[k].value + ")");
+    }
+    throw;
+  }
 }
 
 model::Model read_model(const std::string& path, const ReadOptions& options) {

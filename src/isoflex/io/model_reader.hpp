@@ -3,8 +3,10 @@
 // found (YAML syntax, unknown or missing keys, wrong types, values out of range, references to
 // unknown bodies, malformed time functions) throws io::ModelError with FILE:LINE: KEY: message.
 #include <string>
+#include <vector>
 
 #include "isoflex/io/model_error.hpp"
+#include "isoflex/io/model_overrides.hpp"
 #include "isoflex/model/model.hpp"
 
 namespace isoflex::io {
@@ -16,6 +18,9 @@ namespace isoflex::io {
 struct ReadOptions {
   double memory_limit = 0;
   std::string memory_limit_text;
+  // Values set over the file's (io/model_overrides.hpp), checked like the file's own; a message
+  // about one of them says so instead of a line.
+  std::vector<ModelOverride> overrides;
 };
 
 // Reads the model file at `path` (which becomes Model::file and the FILE of messages).

@@ -83,6 +83,12 @@ std::string summary_json(const RunSummary& s) {
   };
 
   str("model", s.model);
+  if (!s.set.empty()) {
+    key("set");
+    std::string list;
+    for (const std::string& v : s.set) list += (list.empty() ? "" : ", ") + json_string(v);
+    fmt::format_to(it, "[{}],\n", list);
+  }
   str("formulation", s.formulation);
   integer("n_coordinates", s.n_coordinates);
   integer("n_constraints", s.n_constraints);
@@ -95,6 +101,7 @@ std::string summary_json(const RunSummary& s) {
   real("t_end", s.t_end);
   real("wall_time_s", s.wall_time_s);
   integer("threads", s.threads);
+  if (s.threads_note) str("threads_note", *s.threads_note);
   real("max_constraint_violation", s.max_constraint_violation);
   real("energy_initial", s.energy_initial);
   real("energy_final", s.energy_final);

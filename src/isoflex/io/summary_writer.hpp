@@ -13,6 +13,7 @@ namespace isoflex::io {
 
 struct RunSummary {
   std::string model;
+  std::vector<std::string> set;  // the --set KEY=VALUE of the run, in order (written if any)
   std::string formulation;
   int n_coordinates = 0;
   int n_constraints = 0;
@@ -27,6 +28,8 @@ struct RunSummary {
   double t_end = 0.0;
   double wall_time_s = 0.0;
   int threads = 1;  // threads the element assembly ran on (Kirchhoff–Love shells; 1 otherwise)
+  // Why fewer threads ran than `--threads` asked for, when it asked for more than one.
+  std::optional<std::string> threads_note;
   double max_constraint_violation = 0.0;
   double energy_initial = 0.0;
   double energy_final = 0.0;
