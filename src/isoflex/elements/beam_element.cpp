@@ -39,13 +39,6 @@ Mat<8, 8> bilinear(const Coeff8& alpha, const Coeff8& beta) {
   return alpha * beta.transpose() + beta * alpha.transpose();
 }
 
-// a·b as a value the compiler may not fuse into a following addition (-ffp-contract=fast).
-inline double unfused_product(double a, double b) {
-  double p = a * b;
-  asm("" : "+x"(p));
-  return p;
-}
-
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("BeamElement: " + message);
 }
@@ -142,46 +135,13 @@ BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
 
 Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
   // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
-  // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_ runs
-  // column by column, b ascending). The sums are those of the dense product Q.lazyProduct(h_k)
-  // that this replaces, bit for bit: rows 0 and 1 as its packet path (fused, in the order of
-  // b), row 2 as its coefficient path (the products unfused and summed pairwise,
-  // ((p₀ + p₁) + (p₂ + p₃)) + ((p₄ + p₅) + (p₆ + p₇))); the products of the zeros of h_k are ±0
-  // and change neither.
-  // Raw pointers: the release preset keeps Eigen's index assertions, which cost more than the
-  // arithmetic here. B is column-major: B(k, j) = b[k + 6 j].
+  // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_, two
+  // per column without corner triads) instead of the dense 3 × 8 by 8 × 8 product.
   Mat<6, kCoords> B = Mat<6, kCoords>::Zero();
-  const double* x = q.data();
-  double* b = B.data();
-  const Entry* entries = entries_.data();
   for (int k = 0; k < 6; ++k)
-    for (int n = first_[k]; n < first_[k + 1];) {
-      const int c = entries[n].c;
-      double* out = b + k + 18 * c;  // B(k, 3c), B(k, 3c + 1), B(k, 3c + 2): out[0], [6], [12]
-      if (n + 2 == first_[k + 1] || (n + 2 < first_[k + 1] && entries[n + 2].c != c)) {
-        if (entries[n + 1].c == c) {
-          // Two nonzeros (every column of an element without corner triads): the pairwise sum
-          // of row 2 is their one sum, the zeros adding nothing.
-          const Entry &e = entries[n], &f = entries[n + 1];
-          const double *qe = x + 3 * e.b, *qf = x + 3 * f.b;
-          out[0] = std::fma(qf[0], f.h, qe[0] * e.h);
-          out[6] = std::fma(qf[1], f.h, qe[1] * e.h);
-          out[12] = unfused_product(qe[2], e.h) + unfused_product(qf[2], f.h);
-          n += 2;
-          continue;
-        }
-      }
-      double s0 = 0.0, s1 = 0.0, p[8] = {};
-      for (; n < first_[k + 1] && entries[n].c == c; ++n) {
-        const Entry& e = entries[n];
-        const double* qe = x + 3 * e.b;
-        s0 = std::fma(qe[0], e.h, s0);
-        s1 = std::fma(qe[1], e.h, s1);
-        p[e.b] = unfused_product(qe[2], e.h);
-      }
-      out[0] = s0;
-      out[6] = s1;
-      out[12] = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    for (int n = first_[k]; n < first_[k + 1]; ++n) {
+      const Entry& e = entries_[static_cast<std::size_t>(n)];
+      B.block<1, 3>(k, 3 * e.c) += e.h * q.segment<3>(3 * e.b).transpose();
     }
   return B;
 }

@@ -2,7 +2,6 @@
 
 #include <Eigen/LU>
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -95,69 +94,8 @@ bool invert_lu(const M& D, Small& inv) {
   return true;
 }
 
-// a·b as a value the compiler may not fuse into a following subtraction (-ffp-contract=fast).
-inline double unfused_product(double a, double b) {
-  double p = a * b;
-  asm("" : "+x"(p));
-  return p;
-}
-
-// invert_lu for a 6 × 6 block in fixed-size scalar loops (Eigen's PartialPivLU<Mat6> and its
-// inverse() spent 6000 instructions a block in generic dynamic-size code). The operations and
-// roundings are Eigen's, so the factors and the inverse are the same bit for bit:
-//   • unblocked LU with partial pivoting (the first largest |entry| of the column), the column
-//     below the pivot divided by it, the rank-one update column by column, the entries in
-//     32-byte-aligned groups of four fused (the packet path, a − l·u in one rounding), the
-//     others not (the scalar path of the same loop; PartialPivLU's m_lu is 32-byte aligned, so
-//     entry (i, j) is in a packet where 6j + i ≡ 0 mod 4 starts one inside the column's range);
-//   • the inverse by the unit-lower and upper triangular solves of the permuted identity, column
-//     by column, x_r −= b·l_r fused, b = x_i · (1/u_ii).
-bool invert6(const Mat6& D, Small& inv) {
-  Mat6 lu = D;
-  int perm[6] = {0, 1, 2, 3, 4, 5};
-  for (int k = 0; k < 5; ++k) {
-    int p = k;
-    double big = std::abs(lu(k, k));
-    for (int i = k + 1; i < 6; ++i)
-      if (std::abs(lu(i, k)) > big) {
-        big = std::abs(lu(i, k));
-        p = i;
-      }
-    if (big != 0.0) {
-      if (p != k) {
-        lu.row(k).swap(lu.row(p));
-        std::swap(perm[k], perm[p]);
-      }
-      const double pivot = lu(k, k);
-      for (int i = k + 1; i < 6; ++i) lu(i, k) /= pivot;
-    }
-    for (int j = k + 1; j < 6; ++j) {
-      int first = k + 1;  // first row of the column's range on a 32-byte boundary
-      while (first < 6 && (6 * j + first) % 4 != 0) ++first;
-      const int end = first < 6 ? first + 4 * ((6 - first) / 4) : first;
-      for (int i = k + 1; i < 6; ++i)
-        lu(i, j) = i >= first && i < end ? std::fma(-lu(i, k), lu(k, j), lu(i, j))
-                                         : lu(i, j) - unfused_product(lu(k, j), lu(i, k));
-    }
-  }
-  const auto d = lu.diagonal().cwiseAbs();
-  if (!(d.minCoeff() > 1e-12 * d.maxCoeff())) return false;
-  Mat6 x;
-  for (int k = 0; k < 6; ++k) x.row(k) = Mat6::Identity().row(perm[k]);
-  for (int j = 0; j < 6; ++j) {
-    for (int i = 0; i < 6; ++i)
-      for (int r = i + 1; r < 6; ++r) x(r, j) = std::fma(-x(i, j), lu(r, i), x(r, j));
-    for (int i = 5; i >= 0; --i) {
-      const double b = (x(i, j) *= 1.0 / lu(i, i));
-      for (int r = 0; r < i; ++r) x(r, j) = std::fma(-b, lu(r, i), x(r, j));
-    }
-  }
-  inv = x;
-  return true;
-}
-
 bool invert(const Small& D, Small& inv) {
-  if (D.rows() == 6) return invert6(Mat6(Eigen::Map<const Mat6>(D.data())), inv);
+  if (D.rows() == 6) return invert_lu(Mat6(Eigen::Map<const Mat6>(D.data())), inv);
   return invert_lu(D, inv);
 }
 }  // namespace

@@ -227,31 +227,17 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
 }
 
 namespace {
-// a·b as a value the compiler may not fuse into a following addition (-ffp-contract=fast would
-// turn p + x into fma(a, b, x) and change the rounding).
-inline double unfused_product(double a, double b) {
-  double p = a * b;
-  asm("" : "+x"(p));
-  return p;
-}
-
-// Pmᵀ K P1 for internal null spaces P = [I 0; 0 −d̂₁; 0 −d̂₂; 0 −d̂₃] (31), by 3 × 3 blocks.
-// Written out in scalars with the roundings of the Eigen expressions it replaces (their lazy
-// products went coefficient by coefficient through non-inlined evaluators, 1900 instructions a
-// call), so that the results stay the same bit for bit:
-//   KP = K P1: columns 3–5 as (K₁S₁ + K₂S₂) + K₃S₃ with each 12 × 3 by 3 × 3 product a packet
-//   product (fused, in the order of the inner index);
-//   rows 3–5 of PmᵀKP: (S₁ᵀX₁ + S₂ᵀX₂) + S₃ᵀX₃, the first two rows of each 3 × 3 by 3 × 6 product
-//   as packets (fused chain), the third as Eigen's coefficient path, p₀ + fma(a₂, b₂, p₁).
+// Pmᵀ K P1 for internal null spaces P = [I 0; 0 −d̂₁; 0 −d̂₂; 0 −d̂₃] (31), by 3 × 3 blocks: only
+// the rotation columns of P are not the identity. (The lazy products of the general expression
+// went coefficient by coefficient through non-inlined evaluators, 1900 instructions a call.)
 Mat<6, 6> project(const Mat<12, 6>& Pm, const Mat<12, 12>& K, const Mat<12, 6>& P1) {
   Mat<12, 3> KP;  // columns 3–5 of K P1
   for (int c = 0; c < 3; ++c) {
-    const auto s = P1.block<9, 1>(3, 3 + c).eval();
-    for (int r = 0; r < 12; ++r) {  // contiguous in r: vectorized
-      const double t0 = std::fma(K(r, 5), s(2), std::fma(K(r, 4), s(1), K(r, 3) * s(0)));
-      const double t1 = std::fma(K(r, 8), s(5), std::fma(K(r, 7), s(4), K(r, 6) * s(3)));
-      const double t2 = std::fma(K(r, 11), s(8), std::fma(K(r, 10), s(7), K(r, 9) * s(6)));
-      KP(r, c) = (t0 + t1) + t2;
+    const Vec<9> s = P1.block<9, 1>(3, 3 + c);
+    for (int r = 0; r < 12; ++r) {
+      double t = 0.0;
+      for (int j = 0; j < 9; ++j) t += K(r, 3 + j) * s(j);
+      KP(r, c) = t;
     }
   }
   Mat<6, 6> out;
@@ -260,13 +246,11 @@ Mat<6, 6> project(const Mat<12, 6>& Pm, const Mat<12, 12>& K, const Mat<12, 6>& 
   const Mat<9, 3> a = Pm.block<9, 3>(3, 3);
   for (int c = 0; c < 6; ++c) {
     const double* x = c < 3 ? K.col(c).data() : KP.col(c - 3).data();
-    for (int r = 0; r < 2; ++r)
-      out(3 + r, c) = (std::fma(a(2, r), x[5], std::fma(a(1, r), x[4], a(0, r) * x[3])) +
-                       std::fma(a(5, r), x[8], std::fma(a(4, r), x[7], a(3, r) * x[6]))) +
-                      std::fma(a(8, r), x[11], std::fma(a(7, r), x[10], a(6, r) * x[9]));
-    out(5, c) = (unfused_product(a(0, 2), x[3]) + std::fma(a(2, 2), x[5], a(1, 2) * x[4]) +
-                 (unfused_product(a(3, 2), x[6]) + std::fma(a(5, 2), x[8], a(4, 2) * x[7]))) +
-                (unfused_product(a(6, 2), x[9]) + std::fma(a(8, 2), x[11], a(7, 2) * x[10]));
+    for (int r = 0; r < 3; ++r) {
+      double t = 0.0;
+      for (int j = 0; j < 9; ++j) t += a(j, r) * x[3 + j];
+      out(3 + r, c) = t;
+    }
   }
   return out;
 }

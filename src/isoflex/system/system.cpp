@@ -32,13 +32,6 @@ namespace {
   compile_fail(s, what, msg);
 }
 
-// a·b as a value the compiler may not fuse into a following addition (-ffp-contract=fast).
-inline double unfused_product(double a, double b) {
-  double p = a * b;
-  asm("" : "+x"(p));
-  return p;
-}
-
 // Templated so that fixed-size blocks are not copied into a heap-allocated MatX.
 template <class Derived>
 void add_block(Triplets& t, int r0, int c0, const Eigen::MatrixBase<Derived>& B) {
@@ -507,7 +500,7 @@ SpMat System::tree_null_space(const VecX& q) const {
   // P_int E (57), column by column of E, without P_int as a sparse matrix and without Eigen's
   // sparse product (per step in the residual scale of the reparametrized formulation). The
   // entries, their order and their sums are the product's: an entry wherever a stored (nonzero)
-  // entry of P_int meets one of E, the products summed (unfused) over E's column in the order of
+  // entry of P_int meets one of E, the products summed over E's column in the order of
   // its rows.
   const SpMat E = twist_map(q);
   std::vector<NodeMat> Pint(static_cast<std::size_t>(node_count()));
@@ -531,7 +524,7 @@ SpMat System::tree_null_space(const VecX& q) const {
           values[row] = x * it.value();
           rows.push_back(row);
         } else {
-          values[row] += unfused_product(x, it.value());
+          values[row] += x * it.value();
         }
       }
     }
