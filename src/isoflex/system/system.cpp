@@ -545,15 +545,6 @@ VecX System::update(const VecX& qn, const VecX& u) const {
   std::vector<Mat3> step(node_count(), Mat3::Identity());
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
-    if (node_kind(i) == NodeKind::frame) {
-      // What FrameNodeType::root_update computes, in fixed sizes (no Ref, no dynamic NodeVec):
-      // the same operations, called once per Newton iteration for every free frame node.
-      const int o = nodes_[i].q_offset;
-      const Vec<6> ui = u.segment<6>(root_nu_offset_[r]);
-      step[i] = rodrigues(ui.tail<3>());
-      q.segment<12>(o) = fn::update(qn.segment<12>(o), ui, step[i]);
-      continue;
-    }
     q.segment(nodes_[i].q_offset, coordinate_count(i)) = node_type(i).root_update(
         node_q(qn, i), u.segment(root_nu_offset_[r], root_width_[r]), step[i]);
   }
@@ -624,16 +615,8 @@ void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const 
 VecX System::reduce(const VecX& q, const VecX& r) const {
   const int N = node_count();
   VecX y(6 * N);
-  for (int i = 0; i < N; ++i) {
-    if (node_kind(i) == NodeKind::frame) {
-      // FrameNodeType::twist_force in fixed sizes: P_int(q)ᵀ r, the same product.
-      const int o = nodes_[i].q_offset;
-      const Vec<6> t = fn::null_space(q.segment<12>(o)).transpose() * fn::Q(r.segment<12>(o));
-      y.segment<6>(6 * i) = t;
-      continue;
-    }
+  for (int i = 0; i < N; ++i)
     y.segment<6>(6 * i) = node_type(i).twist_force(node_q(q, i), node_q(r, i));
-  }
   VecX out = VecX::Zero(k_);
   for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
     const auto& J = joints_[*it];
