@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake ninja-build ccache pkg-config
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libbenchmark-dev python3-matplotlib python3-yaml python3-scipy
+  pybind11-dev python3-dev python3-numpy
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libtbb-dev libsuitesparse-dev
   libopenblas0-serial)

@@ -78,6 +78,10 @@ TEST(ModelOverrides, BadValuesNameTheSet) {
   EXPECT_EQ(error_of({"solver.dtt=1"}).rfind("m.yaml: solver.dtt: unknown key", 0), 0u);
   EXPECT_NE(error_of({"solver.dtt=1"}).find("(the value of --set solver.dtt=1)"),
             std::string::npos);
+  // Of two settings of one key, the message names the one in effect, the last.
+  EXPECT_EQ(error_of({"bodies[b].mass=2", "bodies[b].mass=-1"}),
+            "m.yaml: bodies[1].mass: must be > 0, got -1 (the value of --set "
+            "bodies[b].mass=-1)");
   // An error elsewhere in the file keeps its line.
   io::ReadOptions o;
   o.overrides.push_back(io::parse_model_override("solver.dt=0.5"));

@@ -16,6 +16,7 @@
 #include "isoflex/app/exit_codes.hpp"
 #include "isoflex/app/interrupt.hpp"
 #include "isoflex/app/run_outputs.hpp"
+#include "isoflex/app/simulation.hpp"
 #include "isoflex/elements/point_spring_damper.hpp"
 #include "isoflex/integrate/cosimulation.hpp"
 #include "isoflex/integrate/energy_momentum.hpp"
@@ -66,19 +67,29 @@ struct Loaded {
   MemoryLimit limit;
 };
 
-// Reads and compiles a model, with the options' solver overrides applied first; prints one error
-// line and returns nullopt on bad input. A model whose memory estimate exceeds the limit is
+// Says that the memory ran out while `doing` (reading, compiling) the model: one error line, and
+// the message in `out_of_memory` if given.
+void report_out_of_memory(const std::string& file, const char* doing, const std::bad_alloc& e,
+                          double estimate, const MemoryLimit& limit, std::FILE* err,
+                          std::string* out_of_memory) {
+  const std::string message = fmt::format(
+      "{}: out of memory while {} the model ({}; the estimate was {}, {})", file, doing,
+      out_of_memory_cause(e), estimate > 0 ? system::format_bytes(estimate) : "not made yet",
+      limit.bytes > 0 ? limit.text : "the available memory is unknown");
+  fmt::print(err, "error: {}\n", message);
+  if (out_of_memory) *out_of_memory = message;
+}
+
+// Compiles a model read from `file`, with the options' solver overrides applied first; prints one
+// error line and returns nullopt on bad input. A model whose memory estimate exceeds the limit is
 // refused before it is compiled (the located part that needs the most). If the memory runs out
 // all the same, `out_of_memory` (if given) receives the message.
-std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o,
-                           const std::optional<double>& max_memory,
-                           const std::vector<io::ModelOverride>& overrides,
-                           std::string* out_of_memory = nullptr) {
-  const MemoryLimit limit = memory_limit(max_memory);
-  const char* doing = "reading";
+std::optional<Loaded> prepare(model::Model model, const std::string& file, std::FILE* err,
+                              const RunOptions* o, const MemoryLimit& limit,
+                              std::string* out_of_memory = nullptr) {
   double estimate = 0;
   try {
-    Loaded l{io::read_model(file, {limit.bytes, limit.text, overrides}), nullptr, {}, limit};
+    Loaded l{std::move(model), nullptr, {}, limit};
     model::Solver& s = l.model.solver;
     if (o && o->formulation) s.formulation = *o->formulation;
     if (o && o->dt) s.dt = *o->dt;
@@ -120,16 +131,10 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
                  part ? part->what : "", part ? part->detail : "", limit.text);
       return std::nullopt;
     }
-    doing = "compiling";
     l.sys = std::make_unique<system::System>(system::System::compile(l.model));
     return l;
   } catch (const std::bad_alloc& e) {
-    const std::string message = fmt::format(
-        "{}: out of memory while {} the model ({}; the estimate was {}, {})", file, doing,
-        out_of_memory_cause(e), estimate > 0 ? system::format_bytes(estimate) : "not made yet",
-        limit.bytes > 0 ? limit.text : "the available memory is unknown");
-    fmt::print(err, "error: {}\n", message);
-    if (out_of_memory) *out_of_memory = message;
+    report_out_of_memory(file, "compiling", e, estimate, limit, err, out_of_memory);
   } catch (const io::ModelError& e) {
     fmt::print(err, "error: {}\n", e.what());
   } catch (const system::CompileError& e) {
@@ -142,12 +147,21 @@ std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOpt
   return std::nullopt;
 }
 
-std::vector<std::string> body_names(const model::Model& m) {
-  std::vector<std::string> names;
-  for (const auto& b : m.bodies) names.push_back(b.name);
-  for (const auto& b : m.beams)
-    for (int i = 0; i < b.node_count(); ++i) names.push_back(fmt::format("{}[{}]", b.name, i));
-  return names;
+// Reads the model file and compiles it (prepare).
+std::optional<Loaded> load(const std::string& file, std::FILE* err, const RunOptions* o,
+                           const std::optional<double>& max_memory,
+                           const std::vector<io::ModelOverride>& overrides,
+                           std::string* out_of_memory = nullptr) {
+  const MemoryLimit limit = memory_limit(max_memory);
+  try {
+    return prepare(io::read_model(file, {limit.bytes, limit.text, overrides}), file, err, o, limit,
+                   out_of_memory);
+  } catch (const std::bad_alloc& e) {
+    report_out_of_memory(file, "reading", e, 0, limit, err, out_of_memory);
+  } catch (const io::ModelError& e) {
+    fmt::print(err, "error: {}\n", e.what());
+  }
+  return std::nullopt;
 }
 
 // Joint names of the rows in `rows`, with how many rows of each.
@@ -238,28 +252,6 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
              eq.unknowns());
 }
 
-// What of a step's results is not finite ("" if all is): the energies, then the coordinates q
-// and velocities v with how many entries and the first. A cheap scan (O(n)) after every step, so
-// that overflow (e.g. an absurdly thin shell) ends the run instead of being written as results.
-std::string non_finite_results(const integrate::Snapshot& snap, const integrate::State& state) {
-  std::vector<std::string> parts;
-  if (!std::isfinite(snap.kinetic_energy)) parts.push_back("kinetic energy");
-  if (!std::isfinite(snap.potential_energy)) parts.push_back("potential energy");
-  const auto vector_part = [&](const VecX& x, const char* name) {
-    Eigen::Index count = 0, first = -1;
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (!std::isfinite(x[i]) && count++ == 0) first = i;
-    if (count > 0)
-      parts.push_back(fmt::format("{} ({} of {} entries, the first at index {})", name, count,
-                                  x.size(), first));
-  };
-  vector_part(state.q, "coordinates q");
-  vector_part(state.v, "velocities v");
-  std::string text;
-  for (const std::string& p : parts) text += (text.empty() ? "" : ", ") + p;
-  return text;
-}
-
 // What a user can change after a step or load step that Newton could not solve (appended to
 // the failure message).
 std::string newton_failure_hint(const model::Solver& s) {
@@ -305,9 +297,11 @@ std::optional<double> parse_memory_size(const std::string& text) {
   return value * unit;
 }
 
-int check_command(const std::string& file, std::FILE* out, std::FILE* err,
-                  const CheckOptions& options) {
-  auto l = load(file, err, nullptr, options.max_memory, options.overrides);
+namespace {
+
+// `check`'s report of a compiled model.
+int print_check(const std::string& file, const std::optional<Loaded>& l, std::FILE* out,
+                std::FILE* err) {
   if (!l) return kExitBadInput;
   fmt::print(out, "model            {}\n", file);
   fmt::print(out, "memory           about {} to run, {} to check ({}){}\n",
@@ -473,6 +467,20 @@ int check_command(const std::string& file, std::FILE* out, std::FILE* err,
                sys.initial_velocity_projection_error());
   fmt::print(out, "joint forest\n{}", sys.describe_forest(l->model));
   return 0;
+}
+
+}  // namespace
+
+int check_command(const std::string& file, std::FILE* out, std::FILE* err,
+                  const CheckOptions& options) {
+  return print_check(file, load(file, err, nullptr, options.max_memory, options.overrides), out,
+                     err);
+}
+
+int check_model(model::Model m, std::FILE* out, std::FILE* err, const CheckOptions& options) {
+  const std::string file = m.file;
+  return print_check(
+      file, prepare(std::move(m), file, err, nullptr, memory_limit(options.max_memory)), out, err);
 }
 
 int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {

@@ -38,6 +38,10 @@ struct CheckOptions {
 int run_command(const RunOptions& o, std::FILE* out = stdout, std::FILE* err = stderr);
 int check_command(const std::string& model_file, std::FILE* out = stdout, std::FILE* err = stderr,
                   const CheckOptions& options = {});
+// check_command's report of a model already read (CheckOptions::overrides are not used: the
+// reader applies them); Model::file names it in messages.
+int check_model(model::Model m, std::FILE* out = stdout, std::FILE* err = stderr,
+                const CheckOptions& options = {});
 
 // A memory size as --max-memory takes it: a number of bytes with an optional suffix K, M, G or T
 // (powers of 1024, as free(1) and /proc/meminfo count), optionally followed by B: "2G", "512M",

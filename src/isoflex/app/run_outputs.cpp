@@ -8,19 +8,6 @@
 namespace isoflex::app {
 
 namespace {
-// history.csv's path column of a static run with path following (io/history_writer.hpp).
-std::string path_column(const model::Model& m) {
-  if (m.solver.analysis != model::Analysis::statics) return {};
-  switch (m.solver.path.method) {
-    case model::PathMethod::arc_length:
-      return "arc_length";
-    case model::PathMethod::displacement:
-      return "control_displacement";
-    case model::PathMethod::load:
-      break;
-  }
-  return {};
-}
 
 // The VTK series of an earlier run into the same folder: results.pvd and vtk/*.vtu. Left there,
 // ParaView would show its later steps after a shorter run's, or the whole old series after a run
@@ -46,9 +33,7 @@ RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& 
                        std::FILE* progress) {
   remove_earlier_vtk_series(outdir);
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv, reactions.csv
-    observers_.push_back(
-        std::make_unique<io::HistoryWriter>(outdir, model::has_material_damping(m), path_column(m),
-                                            model::has_external_loads(m), model::has_drivers(m)));
+    observers_.push_back(std::make_unique<io::HistoryWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ProbeWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ResultantsWriter>(outdir, m));
     observers_.push_back(std::make_unique<io::ForcesWriter>(outdir, m));

@@ -454,8 +454,8 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     }
     if (k + 1 == starts.size()) {
       const std::string where = fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt);
-      throw NewtonFailure(refused.empty() ? failure_message(where, o, opt.residual_tolerance)
-                                          : where + ": " + refused);
+      if (refused.empty()) throw NewtonFailure(where, o, opt.residual_tolerance);
+      throw NewtonFailure(where + ": " + refused);
     }
     spent += o.iterations;
     ++st.failed_starts;

@@ -24,11 +24,6 @@
 
 namespace isoflex::integrate {
 
-class NewtonFailure : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 struct NewtonOptions {
   int max_iterations = 25;
   double residual_tolerance = 1e-10;
@@ -52,6 +47,31 @@ struct NewtonOutcome {
   double scale = 0.0;     // the residual scale (at the start of the iteration if it diverged)
   double first_residual = 0.0;
   std::string reason;  // why it failed: "Newton did not converge in 25 iterations", …
+};
+
+// "{where}: {reason}; residual … after … iterations (tolerance … x scale …)".
+inline std::string failure_message(const std::string& where, const NewtonOutcome& o,
+                                   double residual_tolerance) {
+  const bool diverged = o.reason.rfind("Newton diverged", 0) == 0;
+  if (diverged)
+    return fmt::format("{}: {} (tolerance {:.1e} x scale {:.3e} at the start)", where, o.reason,
+                       residual_tolerance, o.scale);
+  return fmt::format(
+      "{}: {}; residual {:.3e} after {} iterations (tolerance {:.1e} x scale {:.3e})", where,
+      o.reason, o.residual, o.iterations, residual_tolerance, o.scale);
+}
+
+// A step (or load step) that could not be solved. residual(): ‖R‖∞ where the last Newton attempt
+// stopped, NaN for a failure that is no Newton outcome (non-finite results, a degenerate path).
+class NewtonFailure : public std::runtime_error {
+ public:
+  explicit NewtonFailure(const std::string& what) : std::runtime_error(what) {}
+  NewtonFailure(const std::string& where, const NewtonOutcome& o, double residual_tolerance)
+      : std::runtime_error(failure_message(where, o, residual_tolerance)), residual_(o.residual) {}
+  double residual() const { return residual_; }
+
+ private:
+  double residual_ = std::nan("");
 };
 
 // residual(with_matrix) → R at the current iterate, the Newton matrix kept when asked (a
@@ -138,18 +158,6 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     out.reason = "Newton did not converge";
   }
   return out;
-}
-
-// "{where}: {reason}; residual … after … iterations (tolerance … x scale …)".
-inline std::string failure_message(const std::string& where, const NewtonOutcome& o,
-                                   double residual_tolerance) {
-  const bool diverged = o.reason.rfind("Newton diverged", 0) == 0;
-  if (diverged)
-    return fmt::format("{}: {} (tolerance {:.1e} x scale {:.3e} at the start)", where, o.reason,
-                       residual_tolerance, o.scale);
-  return fmt::format(
-      "{}: {}; residual {:.3e} after {} iterations (tolerance {:.1e} x scale {:.3e})", where,
-      o.reason, o.residual, o.iterations, residual_tolerance, o.scale);
 }
 
 }  // namespace isoflex::integrate

@@ -625,7 +625,7 @@ StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& obser
       if (!s.adaptive || depth >= s.max_cuts) {
         const std::string halvings =
             cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string();
-        throw NewtonFailure(failure_message(
+        throw NewtonFailure(
             displacement
                 ? fmt::format("static displacement control: step {} did not converge at control "
                               "displacement {:.6g} (load factor reached {:.6g} at control "
@@ -635,7 +635,7 @@ StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& obser
                 : fmt::format("static load stepping: load step {} did not converge at load "
                               "factor {:.6g} (load factor reached {:.6g}, increment {:.3g}{})",
                               st.step, t_try, t, dt_try, halvings),
-            out, s.residual_tolerance));
+            out, s.residual_tolerance);
       }
       dt = 0.5 * dt_try;
       ++cuts;
@@ -737,11 +737,11 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
       if (!out.converged) {
         carried.add(st);
         if (cuts >= s.max_cuts)
-          throw NewtonFailure(failure_message(
+          throw NewtonFailure(
               fmt::format("static arc length: the first step (load control) did not converge at "
                           "load factor {:.6g}{}",
                           dlam, cuts > 0 ? fmt::format(", after {} halvings", cuts) : ""),
-              out, s.residual_tolerance));
+              out, s.residual_tolerance);
         dlam *= 0.5;
         ++cuts;
         continue;
@@ -796,12 +796,12 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
     if (!out.converged) {
       carried.add(st);
       if (0.5 * dl < dl_min * (1.0 - 1e-12))
-        throw NewtonFailure(failure_message(
+        throw NewtonFailure(
             fmt::format("static arc length: step {} did not converge with arc length {:.3g} "
                         "(load factor reached {:.6g}, path length {:.6g}{})",
                         st.step, dl, lambda, arc,
                         cuts > 0 ? fmt::format(", after {} halvings", cuts) : std::string()),
-            out, s.residual_tolerance));
+            out, s.residual_tolerance);
       dl *= 0.5;
       ++cuts;
       continue;

@@ -88,32 +88,78 @@ void CsvFile::flush() {
   pending_.clear();
 }
 
-HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
-                             const std::string& path_column, bool external_work, bool driver_work)
-    : file_(outdir / "history.csv",
-            (std::string(kHistoryHeader) + (dissipated_energy ? ",dissipated_energy" : "") +
-             (external_work ? ",external_work" : "") + (driver_work ? ",driver_work" : "") +
-             (path_column.empty() ? "" : "," + path_column))
-                .c_str()),
-      dissipated_(dissipated_energy),
-      path_(!path_column.empty()),
-      work_(external_work),
-      driver_work_(driver_work) {}
+namespace {
 
-void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
+// The path-parameter column of a static run with path following (Snapshot::path), "" for none.
+std::string path_column(const model::Model& m) {
+  if (m.solver.analysis != model::Analysis::statics) return {};
+  switch (m.solver.path.method) {
+    case model::PathMethod::arc_length:
+      return "arc_length";
+    case model::PathMethod::displacement:
+      return "control_displacement";
+    case model::PathMethod::load:
+      break;
+  }
+  return {};
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ",") + n;
+  return s;
+}
+
+}  // namespace
+
+HistoryColumns::HistoryColumns(const model::Model& m)
+    : HistoryColumns(model::has_material_damping(m), path_column(m), model::has_external_loads(m),
+                     model::has_drivers(m)) {}
+
+HistoryColumns::HistoryColumns(bool dissipated_energy, const std::string& path_column,
+                               bool external_work, bool driver_work)
+    : dissipated_(dissipated_energy),
+      external_work_(external_work),
+      driver_work_(driver_work),
+      path_(!path_column.empty()) {
+  for (std::string_view h = kHistoryHeader; !h.empty();) {
+    const auto comma = h.find(',');
+    names_.emplace_back(h.substr(0, comma));
+    h = comma == std::string_view::npos ? std::string_view() : h.substr(comma + 1);
+  }
+  if (dissipated_) names_.push_back("dissipated_energy");
+  if (external_work_) names_.push_back("external_work");
+  if (driver_work_) names_.push_back("driver_work");
+  if (path_) names_.push_back(path_column);
+}
+
+void HistoryColumns::append_values(const integrate::Snapshot& s, std::vector<double>& out) const {
   const Vec3& p = s.linear_momentum;
   const Vec3& L = s.angular_momentum;
-  fmt::format_to(std::back_inserter(file_.pending()),
-                 "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-                 "{:.17g},{},{:.17g}",
-                 s.t, s.kinetic_energy, s.potential_energy, s.total_energy, p.x(), p.y(), p.z(),
-                 L.x(), L.y(), L.z(), s.constraint_violation, s.newton_iterations, s.residual);
-  if (dissipated_)
-    fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.dissipated_energy);
-  if (work_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.external_work);
-  if (driver_work_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.driver_work);
-  if (path_) fmt::format_to(std::back_inserter(file_.pending()), ",{:.17g}", s.path);
-  file_.pending() += '\n';
+  out.insert(out.end(),
+             {s.t, s.kinetic_energy, s.potential_energy, s.total_energy, p.x(), p.y(), p.z(), L.x(),
+              L.y(), L.z(), s.constraint_violation, double(s.newton_iterations), s.residual});
+  if (dissipated_) out.push_back(s.dissipated_energy);
+  if (external_work_) out.push_back(s.external_work);
+  if (driver_work_) out.push_back(s.driver_work);
+  if (path_) out.push_back(s.path);
+}
+
+HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, const model::Model& m)
+    : HistoryWriter(outdir, HistoryColumns(m)) {}
+
+HistoryWriter::HistoryWriter(const std::filesystem::path& outdir, HistoryColumns columns)
+    : columns_(std::move(columns)),
+      file_(outdir / "history.csv", joined(columns_.names()).c_str()) {}
+
+// {:.17g} writes the iteration count as the integer it is.
+void HistoryWriter::on_snapshot(const integrate::Snapshot& s) {
+  values_.clear();
+  columns_.append_values(s, values_);
+  std::string& row = file_.pending();
+  for (std::size_t k = 0; k < values_.size(); ++k)
+    fmt::format_to(std::back_inserter(row), "{}{:.17g}", k ? "," : "", values_[k]);
+  row += '\n';
   file_.flush();
 }
 

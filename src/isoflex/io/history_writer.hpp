@@ -60,24 +60,43 @@ class CsvFile {
   long long written_ = 0;  // bytes of complete rows in the file
 };
 
+// The columns of history.csv for a model (the header above, with the optional columns the model
+// has) and their values in a snapshot: the file and the history of a run in the Python module
+// (python/) are the same numbers.
+class HistoryColumns {
+ public:
+  explicit HistoryColumns(const model::Model& m);
+  // The optional columns: dissipated_energy, external_work, driver_work, and the path column
+  // path_column ("" for none).
+  explicit HistoryColumns(bool dissipated_energy, const std::string& path_column = {},
+                          bool external_work = false, bool driver_work = false);
+  const std::vector<std::string>& names() const { return names_; }
+  // Appends the snapshot's value of every column, in order.
+  void append_values(const integrate::Snapshot& s, std::vector<double>& out) const;
+
+ private:
+  std::vector<std::string> names_;
+  bool dissipated_ = false, external_work_ = false, driver_work_ = false, path_ = false;
+};
+
 // Writes outdir/history.csv.
 class HistoryWriter : public integrate::Observer {
  public:
-  // path_column: the name of the path-parameter column, empty for none; external_work: the
-  // column of the work of the loads and actuators (after dissipated_energy); driver_work: the
-  // column of the work of the prescribed motions (after external_work).
+  HistoryWriter(const std::filesystem::path& outdir, const model::Model& m);
+  HistoryWriter(const std::filesystem::path& outdir, HistoryColumns columns);
+  // As HistoryColumns(dissipated_energy, …).
   HistoryWriter(const std::filesystem::path& outdir, bool dissipated_energy,
                 const std::string& path_column = {}, bool external_work = false,
-                bool driver_work = false);
+                bool driver_work = false)
+      : HistoryWriter(outdir,
+                      HistoryColumns(dissipated_energy, path_column, external_work, driver_work)) {}
   void on_snapshot(const integrate::Snapshot& s) override;
   void on_finish() override;
 
  private:
+  HistoryColumns columns_;
   CsvFile file_;
-  bool dissipated_ = false;
-  bool path_ = false;
-  bool work_ = false;
-  bool driver_work_ = false;
+  std::vector<double> values_;
 };
 
 // A CSV file of rows per snapshot: the writers below say which rows (none and no file when the

@@ -1204,7 +1204,8 @@ model::Model read_model_string(const std::string& yaml, const std::string& name_
   try {
     return Reader(name_for_messages, options).read(root);
   } catch (const ModelError& e) {
-    for (std::size_t k = 0; k < set.size(); ++k) {
+    // The last setting of a key is the one in effect.
+    for (std::size_t k = set.size(); k-- > 0;) {
       const std::string& s = set[k];
       const bool below = e.key().size() > s.size() && e.key().compare(0, s.size(), s) == 0 &&
                          (e.key()[s.size()] == '.' || e.key()[s.size()] == '[');
