@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -66,7 +67,7 @@ py::dict check_figures(const model::Model& m) {
   d["loop_rows_kept"] = sys.cut_rank();
   d["nodes"] = sys.node_count();
   d["bodies"] = m.bodies.size();
-  d["memory_bytes"] = system::estimate_memory(m).total();
+  d["memory_bytes"] = static_cast<long long>(std::llround(system::estimate_memory(m).total()));
   if (m.solver.analysis == model::Analysis::statics) {
     const integrate::StaticEquilibrium eq(sys, m.solver);
     d["analysis"] = "static";
