@@ -49,7 +49,7 @@ class PySimulation {
   }
 
   app::Simulation& sim() { return sim_; }
-  const integrate::Snapshot& current() const { return current_; }
+  const integrate::Snapshot& current() const { return sim_.snapshot(); }
 
   // One step with the GIL released; a Newton failure raises isoflex.NewtonFailure.
   py::dict step() {
@@ -147,7 +147,7 @@ class PySimulation {
                                       const std::vector<double>& v) const {
     if (u.size() != v.size())
       throw std::invalid_argument("kl_displacement: u and v must have the same length");
-    for (const integrate::KLPatchValue& p : current_.kl_patches) {
+    for (const integrate::KLPatchValue& p : current().kl_patches) {
       if (p.shell != shell) continue;
       const geometry::NurbsSurface& ref = p.patch->reference();
       geometry::NurbsSurface cur = ref;
@@ -175,10 +175,10 @@ class PySimulation {
  private:
   // The current snapshot and its history row.
   void record() {
-    current_ = sim_.snapshot();
-    columns_.append_values(current_, history_);
-    for (std::size_t p = 0; p < probes_.size() && p < current_.probes.size(); ++p) {
-      const integrate::ProbeValue& v = current_.probes[p];
+    const integrate::Snapshot& current = sim_.snapshot();
+    columns_.append_values(current, history_);
+    for (std::size_t p = 0; p < probes_.size() && p < current.probes.size(); ++p) {
+      const integrate::ProbeValue& v = current.probes[p];
       for (const Vec3* x : {&v.position, &v.displacement, &v.velocity})
         probes_[p].insert(probes_[p].end(), x->data(), x->data() + 3);
     }
@@ -188,7 +188,6 @@ class PySimulation {
   io::HistoryColumns columns_;
   std::vector<double> history_;              // rows of columns_
   std::vector<std::vector<double>> probes_;  // per probe: position, displacement, velocity rows
-  integrate::Snapshot current_;
 };
 
 py::dict energies(const integrate::Snapshot& s) {

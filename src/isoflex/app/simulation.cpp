@@ -63,6 +63,7 @@ Simulation::Simulation(model::Model m, int threads) : model_(std::move(m)) {
     integ_->set_joint_reactions(model_.output.history && model_.output.reactions &&
                                 !(model_.joints.empty() && model_.kl_surface_joints.empty()));
   }
+  current_ = integrate::snapshot(*sys_, state_, {}, names_);
 }
 
 int Simulation::unknowns() const {
@@ -70,22 +71,22 @@ int Simulation::unknowns() const {
                 : integrate::StaticEquilibrium(*sys_, model_.solver).unknowns();
 }
 
-integrate::Snapshot Simulation::snapshot() const {
-  integrate::Snapshot s = integrate::snapshot(*sys_, state_, last_, names_);
-  s.path = path_;
-  return s;
+void Simulation::accept(const integrate::State& next, const integrate::StepStats& st,
+                        const char* what, double path) {
+  integrate::Snapshot snap = integrate::snapshot(*sys_, next, st, names_);
+  snap.path = path;
+  if (const std::string bad = non_finite_results(snap, next); !bad.empty())
+    throw integrate::NewtonFailure(
+        fmt::format("{} {} (t = {:.6g}): non-finite results: {}", what, next.step, next.t, bad));
+  state_ = next;  // into the same buffers: numpy views of the state stay valid
+  current_ = std::move(snap);
 }
 
 integrate::StepStats Simulation::step() {
   if (!integ_) throw std::logic_error("a static model has load steps (solve_static), not steps");
   integrate::State next = state_;
   const integrate::StepStats st = integ_->step(next);
-  const integrate::Snapshot snap = integrate::snapshot(*sys_, next, st, names_);
-  if (const std::string bad = non_finite_results(snap, next); !bad.empty())
-    throw integrate::NewtonFailure(
-        fmt::format("step {} (t = {:.6g}): non-finite results: {}", next.step, next.t, bad));
-  state_ = next;  // into the same buffers: numpy views of the state stay valid
-  last_ = st;
+  accept(next, st, "step", 0.0);
   return st;
 }
 
@@ -101,14 +102,7 @@ integrate::StaticResult Simulation::solve_static(const std::function<void()>& ea
     next.lambda = x.segment(n, m);
     next.t = st.t;
     next.step = st.step;
-    const integrate::StepStats stats{st.iterations, st.residual, st.cuts + 1};
-    const integrate::Snapshot snap = integrate::snapshot(*sys_, next, stats, names_);
-    if (const std::string bad = non_finite_results(snap, next); !bad.empty())
-      throw integrate::NewtonFailure(
-          fmt::format("load step {} (t = {:.6g}): non-finite results: {}", next.step, next.t, bad));
-    state_ = next;  // into the same buffers: numpy views of the state stay valid
-    last_ = stats;
-    path_ = st.path;
+    accept(next, {st.iterations, st.residual, st.cuts + 1}, "load step", st.path);
     if (each) each();
   });
 }

@@ -33,7 +33,7 @@ class Simulation {
   int initial_equilibrium_load_steps() const { return initial_load_steps_; }
 
   // The current state as the outputs see it, with the last step's Newton figures.
-  integrate::Snapshot snapshot() const;
+  const integrate::Snapshot& snapshot() const { return current_; }
 
   // One time step of solver.dt. Throws NewtonFailure (the state stays that of the last step),
   // also for non-finite results; std::logic_error for a static model.
@@ -49,9 +49,12 @@ class Simulation {
   model::Model model_;
   std::unique_ptr<system::System> sys_;
   std::vector<std::string> names_;
+  // Makes `next` the state if its results are finite (NewtonFailure naming the `what` otherwise).
+  void accept(const integrate::State& next, const integrate::StepStats& st, const char* what,
+              double path);
+
   integrate::State state_;
-  integrate::StepStats last_{};
-  double path_ = 0.0;  // static path following: Snapshot::path of the last load step
+  integrate::Snapshot current_;  // of state_
   int initial_load_steps_ = 0;
   bool solved_ = false;
   std::unique_ptr<integrate::TimeIntegrator> integ_;
