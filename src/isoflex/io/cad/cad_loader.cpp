@@ -18,17 +18,22 @@ using ReadFn = detail::CadReadFn;
 
 constexpr double kDefaultTimeLimit = 60;  // s; the largest shared file reads in well under 1 s
 
-// Where the import module may be: $ISOFLEX_CAD_MODULE, next to the running executable, and by its
-// file name alone, which dlopen looks for along the executable's run path: the build folder for
-// the build tree's executables, <libdir>/isoflex for the installed isoflex and for programs linked
-// against the installed package (CMakeLists.txt, io/cad/CMakeLists.txt). No build-tree path is
-// compiled in: an installed copy of this code must not load a module the build has since changed.
+// Where the import module may be: $ISOFLEX_CAD_MODULE; next to the running executable (the build
+// tree's isoflex); where `cmake --install` puts it relative to the executable (the installed
+// isoflex: bin/ → lib/isoflex/); and by its file name alone, which dlopen looks for along the
+// executable's run path: the build folder for the build tree's other executables, the installed
+// lib/isoflex for programs linked against the installed package (io/cad/CMakeLists.txt). No path
+// of the build tree is compiled in: an installed copy of this code must not load a module that
+// the build has since changed.
 std::vector<std::filesystem::path> module_candidates() {
   std::vector<std::filesystem::path> out;
   if (const char* env = std::getenv("ISOFLEX_CAD_MODULE")) out.emplace_back(env);
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) out.push_back(exe.parent_path() / ISOFLEX_CAD_MODULE_NAME);
+  if (!ec) {
+    out.push_back(exe.parent_path() / ISOFLEX_CAD_MODULE_NAME);
+    out.push_back(exe.parent_path() / ISOFLEX_CAD_MODULE_FROM_BINDIR);
+  }
   out.emplace_back(ISOFLEX_CAD_MODULE_NAME);
   return out;
 }
