@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -18,13 +20,33 @@ using ReadFn = detail::CadReadFn;
 
 constexpr double kDefaultTimeLimit = 60;  // s; the largest shared file reads in well under 1 s
 
+// The folders in which the dynamic loader looks for the running program's libraries: its run
+// path, LD_LIBRARY_PATH and the system folders, in the loader's order.
+std::vector<std::filesystem::path> program_search_path() {
+  std::vector<std::filesystem::path> out;
+  void* program = dlopen(nullptr, RTLD_LAZY);
+  if (!program) return out;
+  Dl_serinfo size;
+  if (dlinfo(program, RTLD_DI_SERINFOSIZE, &size) == 0) {
+    std::vector<std::max_align_t> buffer(size.dls_size / sizeof(std::max_align_t) + 1);
+    auto* info = reinterpret_cast<Dl_serinfo*>(buffer.data());
+    if (dlinfo(program, RTLD_DI_SERINFOSIZE, info) == 0 &&
+        dlinfo(program, RTLD_DI_SERINFO, info) == 0)
+      for (unsigned i = 0; i < info->dls_cnt; ++i) out.emplace_back(info->dls_serpath[i].dls_name);
+  }
+  dlclose(program);
+  return out;
+}
+
 // Where the import module may be: $ISOFLEX_CAD_MODULE; next to the running executable (the build
 // tree's isoflex); where `cmake --install` puts it relative to the executable (the installed
-// isoflex: bin/ → lib/isoflex/); and by its file name alone, which dlopen looks for along the
-// executable's run path: the build folder for the build tree's other executables, the installed
-// lib/isoflex for programs linked against the installed package (io/cad/CMakeLists.txt). No path
-// of the build tree is compiled in: an installed copy of this code must not load a module that
-// the build has since changed.
+// isoflex: bin/ → lib/isoflex/); and in the folders of the program's search path, of which its run
+// path gives the build folder to the build tree's other executables and the installed lib/isoflex
+// to programs linked against the installed package (io/cad/CMakeLists.txt). Those folders are
+// searched here rather than by dlopen of the bare file name, because dlopen searches the run path
+// of its caller, which is the sanitizer runtime when ASan intercepts it. No path of the build tree
+// is compiled in: an installed copy of this code must not load a module the build has since
+// changed.
 std::vector<std::filesystem::path> module_candidates() {
   std::vector<std::filesystem::path> out;
   if (const char* env = std::getenv("ISOFLEX_CAD_MODULE")) out.emplace_back(env);
@@ -34,21 +56,27 @@ std::vector<std::filesystem::path> module_candidates() {
     out.push_back(exe.parent_path() / ISOFLEX_CAD_MODULE_NAME);
     out.push_back(exe.parent_path() / ISOFLEX_CAD_MODULE_FROM_BINDIR);
   }
-  out.emplace_back(ISOFLEX_CAD_MODULE_NAME);
+  for (const auto& folder : program_search_path()) out.push_back(folder / ISOFLEX_CAD_MODULE_NAME);
   return out;
 }
 
 ReadFn load_module(const std::string& file) {
   std::string tried;
+  const auto add = [&](const std::string& why) { tried += (tried.empty() ? "" : "; ") + why; };
   for (const auto& path : module_candidates()) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+      add(path.string() + ": no such file");
+      continue;
+    }
     // RTLD_NODELETE keeps the module loaded; a second dlopen of it is only a lookup.
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     if (!handle) {
-      tried += (tried.empty() ? "" : "; ") + std::string(dlerror());
+      add(dlerror());
       continue;
     }
     if (auto fn = reinterpret_cast<ReadFn>(dlsym(handle, "isoflex_cad_read"))) return fn;
-    tried += (tried.empty() ? "" : "; ") + path.string() + ": no isoflex_cad_read";
+    add(path.string() + ": no isoflex_cad_read");
   }
   throw CadError(file, "cannot load the CAD import module (" + tried + ")");
 }
