@@ -77,7 +77,7 @@ const std::vector<integrate::Snapshot>& plate_run() {
 
 // The plate's snapshots fed to a writer with `every`, then on_finish.
 void write_series(const fs::path& dir, int every, int per_span = io::kKLShellQuadsPerSpan) {
-  io::VtkSeriesWriter w(dir, plate_model(), every, per_span);
+  io::VtkSeriesWriter w(dir, plate_model(), every, model::VtkFormat::binary, per_span);
   for (const auto& s : plate_run()) w.on_snapshot(s);
   w.on_finish();
 }
@@ -127,7 +127,7 @@ TEST(KLSeries, PatchFilesOfTheWrittenStepsArePart1OfTheCollection) {
   ASSERT_EQ(run.back().kl_patches.size(), 1u);
   std::vector<std::string> files;
   {
-    io::VtkSeriesWriter w(dir.path(), plate_model(), 2);
+    io::VtkSeriesWriter w(dir.path(), plate_model(), 2, model::VtkFormat::binary);
     for (const auto& s : run) w.on_snapshot(s);
     w.on_finish();
     files = w.files();
@@ -244,7 +244,8 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
   const model::Model m = plate_model();
   const auto patch = system::kl_patch(m, 0, system::kl_surface(m, m.kl_shells[0]));
   const VecX& x = plate_run().back().kl_patches.front().x;
-  const std::string expected = io::kl_shell_vtu(*patch, system::kl_kinematics(m), x, 4);
+  const std::string expected =
+      io::kl_shell_vtu(*patch, system::kl_kinematics(m), x, 4, model::VtkFormat::binary);
   EXPECT_EQ(read_text(dir.path() / "vtk/plate_000005.vtu"), expected);
   const std::vector<std::string> fields = {"parameters",
                                            "displacement",
@@ -259,7 +260,8 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
                                            "e1"};
   EXPECT_EQ(test::data_array_names(expected, "PointData"), fields);
 
-  EXPECT_THROW(io::kl_shell_vtu(*patch, elements::KLKinematics::nonlinear, x.head(x.size() - 3), 2),
+  EXPECT_THROW(io::kl_shell_vtu(*patch, elements::KLKinematics::nonlinear, x.head(x.size() - 3), 2,
+                                model::VtkFormat::binary),
                std::invalid_argument);
 }
 
@@ -270,7 +272,7 @@ TEST(KLSeries, NoPatchesNoPatchFilesAndBadPatchesThrow) {
   integrate::Snapshot s = plate_run().front();
   s.kl_patches.clear();
   {
-    io::VtkSeriesWriter w(dir.path(), plate_model(), 1);
+    io::VtkSeriesWriter w(dir.path(), plate_model(), 1, model::VtkFormat::binary);
     w.on_snapshot(s);
     w.on_finish();
     EXPECT_EQ(w.files(), std::vector<std::string>{"vtk/step_000000.vtu"});
@@ -278,7 +280,7 @@ TEST(KLSeries, NoPatchesNoPatchFilesAndBadPatchesThrow) {
   EXPECT_FALSE(fs::exists(dir.path() / "vtk/plate_000000.vtu"));
   EXPECT_EQ(read_text(dir.path() / "results.pvd").find("part=\"1\""), std::string::npos);
 
-  io::VtkSeriesWriter w(dir.path(), plate_model(), 1);
+  io::VtkSeriesWriter w(dir.path(), plate_model(), 1, model::VtkFormat::binary);
   integrate::Snapshot other = plate_run().front();
   other.kl_patches.front().shell = "sheet";
   EXPECT_THROW(w.on_snapshot(other), std::runtime_error);

@@ -23,12 +23,9 @@ inline constexpr unsigned char kVtkQuad = 9;
 // rational Bézier points are checked to round-off).
 class VtuText {
  public:
-  VtuText(std::size_t n_points, std::size_t n_cells) : a_(17) {
-    a_.xml(
-        "<?xml version=\"1.0\"?>\n"
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-        "header_type=\"UInt64\">\n"
-        "  <UnstructuredGrid>\n");
+  VtuText(std::size_t n_points, std::size_t n_cells, model::VtkFormat format) : a_(format, 17) {
+    a_.start("1.0");
+    a_.xml("  <UnstructuredGrid>\n");
     a_.xml("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points, n_cells);
   }
   // `attributes` e.g. `RationalWeights="RationalWeights"` (the active-attribute markers).
@@ -65,8 +62,7 @@ class VtuText {
   std::string finish() {
     a_.xml(
         "    </Piece>\n"
-        "  </UnstructuredGrid>\n"
-        "</VTKFile>\n");
+        "  </UnstructuredGrid>\n");
     return a_.finish();
   }
 
@@ -112,7 +108,7 @@ int vtk_bezier_quad_index(int i, int j, int p, int q) {
   return corners + 2 * ((p - 1) + (q - 1)) + (i - 1) + (p - 1) * (j - 1);
 }
 
-std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
+std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s, model::VtkFormat format,
                              const std::vector<SurfaceField>& fields) {
   s.validate();
   const geometry::SurfaceExtraction x = geometry::extract_surface(s);
@@ -153,7 +149,7 @@ std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
     }
   }
 
-  VtuText t(n_points, n_cells);
+  VtuText t(n_points, n_cells, format);
   t.open("PointData", "RationalWeights=\"RationalWeights\"");
   t.reals("RationalWeights", 1, w);
   for (std::size_t f = 0; f < fields.size(); ++f)
@@ -178,6 +174,7 @@ std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
 }
 
 std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_span,
+                                  model::VtkFormat format,
                                   const std::vector<SampledField>& fields) {
   s.validate();
   if (n_per_span < 1)
@@ -233,7 +230,7 @@ std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_spa
     }
   }
 
-  VtuText t(n_points, n_cells);
+  VtuText t(n_points, n_cells, format);
   t.open("PointData");
   t.reals("parameters", 2, params);
   for (std::size_t f = 0; f < fields.size(); ++f)
@@ -259,7 +256,7 @@ std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_spa
   return t.finish();
 }
 
-std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
+std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s, model::VtkFormat format) {
   s.validate();
   const int nu = s.n_u(), nv = s.n_v();
   std::vector<double> xyz;
@@ -277,7 +274,7 @@ std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j + 1 < nv; ++j) line(s.index(i, j), s.index(i, j + 1), 1);
 
-  VtuText t(s.points.size(), types.size());
+  VtuText t(s.points.size(), types.size(), format);
   t.open("PointData", "Scalars=\"weight\"");
   t.reals("weight", 1, s.weights);
   t.close("PointData");
@@ -290,18 +287,19 @@ std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
 }
 
 void write_nurbs_bezier_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                            const std::vector<SurfaceField>& fields) {
-  write_file_atomic(file, nurbs_bezier_vtu(s, fields));
+                            model::VtkFormat format, const std::vector<SurfaceField>& fields) {
+  write_file_atomic(file, nurbs_bezier_vtu(s, format, fields));
 }
 
 void write_nurbs_tessellated_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                                 int n_per_span, const std::vector<SampledField>& fields) {
-  write_file_atomic(file, nurbs_tessellated_vtu(s, n_per_span, fields));
+                                 int n_per_span, model::VtkFormat format,
+                                 const std::vector<SampledField>& fields) {
+  write_file_atomic(file, nurbs_tessellated_vtu(s, n_per_span, format, fields));
 }
 
-void write_nurbs_control_net_vtu(const std::filesystem::path& file,
-                                 const geometry::NurbsSurface& s) {
-  write_file_atomic(file, nurbs_control_net_vtu(s));
+void write_nurbs_control_net_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
+                                 model::VtkFormat format) {
+  write_file_atomic(file, nurbs_control_net_vtu(s, format));
 }
 
 }  // namespace isoflex::io

@@ -258,8 +258,8 @@ std::vector<std::string> kl_patch_file_stems(const model::Model& model) {
 }
 
 VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model,
-                                 int every, int kl_per_span)
-    : outdir_(outdir), kl_per_span_(kl_per_span), every_(every) {
+                                 int every, model::VtkFormat format, int kl_per_span)
+    : outdir_(outdir), kl_per_span_(kl_per_span), every_(every), format_(format) {
   shapes_.reserve(model.bodies.size());
   for (const auto& b : model.bodies) shapes_.push_back(b.shape);
   for (const auto& b : model.beams) {
@@ -359,10 +359,9 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     n_cells += m.types.size();
   }
 
-  VtuDataArrays out(15);  // keeps the time precise and the numbers short
+  VtuDataArrays out(format_, 15);  // ascii: keeps the time precise and the numbers short
+  out.start("0.1");                // ascii: the version these files have always had
   out.xml(
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       "  <UnstructuredGrid>\n"
       "    <FieldData>\n");
   out.open(6, VtkType::float64, "TimeValue", " NumberOfTuples=\"1\"");
@@ -509,8 +508,7 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
   out.xml(
       "      </Cells>\n"
       "    </Piece>\n"
-      "  </UnstructuredGrid>\n"
-      "</VTKFile>\n");
+      "  </UnstructuredGrid>\n");
 
   const std::string name = fmt::format("vtk/step_{:06d}.vtu", s.step);
   write_file_atomic(outdir_ / name, out.finish());
@@ -542,7 +540,7 @@ void VtkSeriesWriter::write_kl_patches(const integrate::Snapshot& s) {
     const std::string name = fmt::format(
         "vtk/{}_{:06d}.vtu", kl_stems_[static_cast<std::size_t>(found->second)], s.step);
     write_file_atomic(outdir_ / name,
-                      kl_shell_vtu(*value.patch, value.kinematics, value.x, kl_per_span_));
+                      kl_shell_vtu(*value.patch, value.kinematics, value.x, kl_per_span_, format_));
     files_.push_back(name);
     add_pvd_entry(s.t, 1 + found->second, name);
   }
