@@ -76,8 +76,9 @@ const std::vector<integrate::Snapshot>& plate_run() {
 }
 
 // The plate's snapshots fed to a writer with `every`, then on_finish.
-void write_series(const fs::path& dir, int every, int per_span = io::kKLShellQuadsPerSpan) {
-  io::VtkSeriesWriter w(dir, plate_model(), every, model::VtkFormat::binary, per_span);
+void write_series(const fs::path& dir, int every, int per_span = io::kKLShellQuadsPerSpan,
+                  model::VtkFormat format = model::VtkFormat::binary) {
+  io::VtkSeriesWriter w(dir, plate_model(), every, format, per_span);
   for (const auto& s : plate_run()) w.on_snapshot(s);
   w.on_finish();
 }
@@ -234,6 +235,27 @@ TEST(KLSeries, PointsAndCellsAreTheTessellation) {
     }
   }
   EXPECT_EQ(io::kKLShellQuadsPerSpan, 4);
+}
+
+// The patch files in binary and in ascii hold the same arrays bit for bit.
+TEST(KLSeries, BinaryAndAsciiPatchFilesHoldTheSameArraysBitForBit) {
+  TempDir dir;
+  write_series(dir.path() / "binary", 2);
+  write_series(dir.path() / "ascii", 2, io::kKLShellQuadsPerSpan, model::VtkFormat::ascii);
+  for (const char* f : {"vtk/plate_000000.vtu", "vtk/plate_000004.vtu", "vtk/plate_000005.vtu",
+                        "vtk/step_000005.vtu"}) {
+    SCOPED_TRACE(f);
+    const std::string binary = read_text(dir.path() / "binary" / f);
+    const std::string ascii = read_text(dir.path() / "ascii" / f);
+    EXPECT_EQ(xml_error(binary), "");
+    EXPECT_EQ(xml_error(ascii), "");
+    EXPECT_NE(binary.find("format=\"appended\""), std::string::npos);
+    EXPECT_EQ(binary.find("format=\"ascii\""), std::string::npos);
+    EXPECT_EQ(ascii.find("format=\"appended\""), std::string::npos);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+  }
+  EXPECT_EQ(data_array(read_text(dir.path() / "ascii/vtk/plate_000005.vtu"), "Points").size(),
+            3u * 9 * 5);  // 2 × 1 elements, 4 × 4 quads each
 }
 
 // The patch file is kl_shell_vtu of the snapshot's x with the model's kinematics: the same

@@ -295,4 +295,28 @@ TEST(NurbsVtk, ControlNet) {
   EXPECT_NEAR(w[1], 0.5 * (1.0 + std::sqrt(0.5)), 1e-16);
 }
 
+// The three views in binary and in ascii hold the same arrays bit for bit (the ascii numbers
+// with the digits that read back to the same double).
+TEST(NurbsVtk, BinaryAndAsciiHoldTheSameArraysBitForBit) {
+  const geometry::NurbsSurface s = quarter_cylinder(1.25, 0.8);
+  io::SurfaceField height{"height", 1, {}, io::SurfaceField::Location::control_points};
+  for (const Vec3& p : s.points) height.values.push_back(p.z() / 3);
+  io::SampledField angle;
+  angle.name = "angle";
+  angle.at = [](double, double, const Vec3& x, double* out) { out[0] = std::atan2(x.y(), x.x()); };
+  for (const auto& [binary, ascii] :
+       {std::pair{io::nurbs_bezier_vtu(s, model::VtkFormat::binary, {height}),
+                  io::nurbs_bezier_vtu(s, model::VtkFormat::ascii, {height})},
+        std::pair{io::nurbs_tessellated_vtu(s, 3, model::VtkFormat::binary, {angle}),
+                  io::nurbs_tessellated_vtu(s, 3, model::VtkFormat::ascii, {angle})},
+        std::pair{io::nurbs_control_net_vtu(s, model::VtkFormat::binary),
+                  io::nurbs_control_net_vtu(s, model::VtkFormat::ascii)}}) {
+    EXPECT_EQ(test::xml_error(binary), "");
+    EXPECT_EQ(test::xml_error(ascii), "");
+    EXPECT_EQ(count(binary, "format=\"appended\""), count(ascii, "format=\"ascii\""));
+    EXPECT_EQ(count(binary, "format=\"ascii\""), 0);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+  }
+}
+
 }  // namespace

@@ -1,5 +1,6 @@
 // Output writers (VTK series, CSV histories, summary JSON) and the progress display, fed with a
 // hand-made model and fake snapshots.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -985,6 +986,35 @@ shell_loads:
       EXPECT_EQ(m_vm[kHubCells], 0.0);
     }
   }
+}
+
+// A binary and an ascii file of the same snapshots hold the same arrays bit for bit: the ascii
+// numbers are written with the digits that read back to the same double. The snapshots have
+// numbers that need 16 or 17 of them.
+TEST(VtkWriter, BinaryAndAsciiFilesHoldTheSameArraysBitForBit) {
+  TempDir dir;
+  std::vector<std::string> files;
+  for (const auto format : {model::VtkFormat::binary, model::VtkFormat::ascii}) {
+    io::VtkSeriesWriter w(dir.path() / (format == model::VtkFormat::ascii ? "ascii" : "binary"),
+                          shell_model(), 1, format);
+    for (int step = 0; step < 3; ++step) w.on_snapshot(shell_snapshot(step, 0.1 * step));
+    w.on_finish();
+    files = w.files();
+  }
+  ASSERT_EQ(files.size(), 3u);
+  int long_numbers = 0;
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const std::string binary = read_text(dir.path() / "binary" / f);
+    const std::string ascii = read_text(dir.path() / "ascii" / f);
+    EXPECT_NE(binary.find("AppendedData"), std::string::npos);
+    EXPECT_EQ(ascii.find("AppendedData"), std::string::npos);
+    EXPECT_EQ(data_array_names(binary, "VTKFile").size(), 26u);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+    for (const double v : data_array(binary, "Points"))
+      long_numbers += std::stod(fmt::format("{:.15g}", v)) != v;
+  }
+  EXPECT_GT(long_numbers, 10);
 }
 
 // A binary file (the default) is version 1.0 with header_type="UInt64"; every array is appended,

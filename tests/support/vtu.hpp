@@ -3,6 +3,7 @@
 // (io/vtu_data_arrays.hpp), by plain string search, and a small well-formedness check of XML
 // (enough for what the writers produce; no DTDs, no CDATA).
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
@@ -135,6 +136,30 @@ inline std::vector<std::string> data_array_names(const std::string& xml,
     names.push_back(xml.substr(begin, xml.find('"', begin) - begin));
   }
   return names;
+}
+
+// "" if `a` and `b` have the same DataArrays (names and types, in order) with the same values bit
+// for bit, as a binary and an ascii file of the same data should; otherwise the first difference.
+inline std::string data_arrays_difference(const std::string& a, const std::string& b) {
+  const auto names = data_array_names(a, "VTKFile");
+  if (data_array_names(b, "VTKFile") != names) return "other arrays";
+  const auto type = [](const std::string& xml, const std::string& name) {
+    return detail::tag_attribute(xml, xml.rfind("<DataArray", xml.find("Name=\"" + name + "\"")),
+                                 "type");
+  };
+  for (const auto& name : names) {
+    if (type(a, name) != type(b, name)) return name + ": other types";
+    const auto va = data_array(a, name), vb = data_array(b, name);
+    if (va.size() != vb.size()) return name + ": other sizes";
+    for (std::size_t k = 0; k < va.size(); ++k)
+      if (std::bit_cast<std::uint64_t>(va[k]) != std::bit_cast<std::uint64_t>(vb[k])) {
+        std::ostringstream out;
+        out.precision(17);
+        out << name << "[" << k << "]: " << va[k] << " vs " << vb[k];
+        return out.str();
+      }
+  }
+  return "";
 }
 
 namespace detail {

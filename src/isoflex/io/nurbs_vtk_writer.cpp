@@ -19,11 +19,10 @@ inline constexpr unsigned char kVtkLine = 3;
 inline constexpr unsigned char kVtkQuad = 9;
 
 // One <Piece> of a VTK XML UnstructuredGrid in the order the format expects: PointData, CellData,
-// Points, Cells. Doubles with 17 significant digits, so that a reader gets the bits back (the
-// rational Bézier points are checked to round-off).
+// Points, Cells.
 class VtuText {
  public:
-  VtuText(std::size_t n_points, std::size_t n_cells, model::VtkFormat format) : a_(format, 17) {
+  VtuText(std::size_t n_points, std::size_t n_cells, model::VtkFormat format) : a_(format) {
     a_.start("1.0");
     a_.xml("  <UnstructuredGrid>\n");
     a_.xml("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points, n_cells);

@@ -359,8 +359,8 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     n_cells += m.types.size();
   }
 
-  VtuDataArrays out(format_, 15);  // ascii: keeps the time precise and the numbers short
-  out.start("0.1");                // ascii: the version these files have always had
+  VtuDataArrays out(format_);
+  out.start("0.1");  // ascii: the version these files have always had
   out.xml(
       "  <UnstructuredGrid>\n"
       "    <FieldData>\n");

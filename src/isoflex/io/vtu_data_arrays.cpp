@@ -61,8 +61,7 @@ double finite(double v) {
 
 }  // namespace
 
-VtuDataArrays::VtuDataArrays(model::VtkFormat format, int ascii_digits)
-    : format_(format), ascii_digits_(ascii_digits) {}
+VtuDataArrays::VtuDataArrays(model::VtkFormat format) : format_(format) {}
 
 void VtuDataArrays::start(std::string_view ascii_version) {
   const bool binary = format_ == model::VtkFormat::binary;
@@ -107,7 +106,7 @@ void VtuDataArrays::real(double v) {
     return;
   }
   start_value();
-  xml("{:.{}g}", finite(v), ascii_digits_);
+  xml("{}", finite(v));
 }
 
 void VtuDataArrays::integer(std::int64_t v) {

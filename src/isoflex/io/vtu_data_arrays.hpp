@@ -9,10 +9,12 @@
 //           counted from the first byte after the section's '_' (VTK XML Formats, "Appended Data
 //           Section"; the UInt64 counts are the file's header_type="UInt64").
 //   ascii   the values as text inside <DataArray … format="ascii">, on the caller's lines
-//           (end_line), so that each writer keeps its layout.
+//           (end_line), so that each writer keeps its layout; a Float64 with the fewest digits
+//           that read back to the same double (fmt's shortest round trip: 0.1, not
+//           0.10000000000000001), so that the text is exact and short.
 //
-// Both formats carry the same values: a non-finite double is written as 0 in both, because VTK's
-// ascii reader rejects nan and inf.
+// Both formats carry the same values bit for bit: a non-finite double is written as 0 in both,
+// because VTK's ascii reader rejects nan and inf.
 #include <fmt/format.h>
 
 #include <cstdint>
@@ -31,8 +33,7 @@ enum class VtkType { int32, int64, uint8, float64 };
 
 class VtuDataArrays {
  public:
-  // ascii_digits: significant digits of the Float64 values in ascii.
-  VtuDataArrays(model::VtkFormat format, int ascii_digits);
+  explicit VtuDataArrays(model::VtkFormat format);
 
   model::VtkFormat format() const { return format_; }
 
@@ -70,7 +71,6 @@ class VtuDataArrays {
   void start_value();
 
   model::VtkFormat format_;
-  int ascii_digits_;
   fmt::memory_buffer xml_;
   std::string appended_;   // binary: the blocks so far
   std::size_t block_ = 0;  // binary: where the open array's values begin in appended_
