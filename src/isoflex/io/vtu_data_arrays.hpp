@@ -35,8 +35,6 @@ class VtuDataArrays {
  public:
   explicit VtuDataArrays(model::VtkFormat format);
 
-  model::VtkFormat format() const { return format_; }
-
   // <?xml …?> and <VTKFile type="UnstructuredGrid" …>. A binary file is version 1.0 with
   // header_type="UInt64" (the attribute exists from version 1.0 on; without it the counts would
   // be UInt32); an ascii file has `ascii_version`, and header_type unless that is 0.1.
