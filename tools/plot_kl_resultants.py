@@ -5,11 +5,11 @@ usage: plot_kl_resultants.py RUN_DIR_OR_VTU [-o FILE.png] [--field NAME:COMP ...
                              [--coords A,B] [--line PARAM=VALUE[:LABEL] ...] [--along X] [--title TEXT]
                              [--levels N]
 
-Reads the .vtu that `isoflex run --static` writes for a kl_shell (io/kl_shell_vtk.hpp: ASCII XML,
-the deformed mid-surface tessellated per knot span; point data `parameters` (ξ, η),
-`displacement`, `n`, `m`, `sigma_top`, `sigma_bottom` (components 11, 22, 12 in the local
-Cartesian frame whose first axis e1 ∥ a₁ is written as `e1`), `principal_top/bottom` (1, 2),
-`von_mises_top/bottom`). Given a run directory, the last vtk/<shell>_NNNNNN.vtu is used (the
+Reads the .vtu that `isoflex run --static` writes for a kl_shell (io/kl_shell_vtk.hpp: VTK XML,
+binary or ascii as output.vtk_format says, the deformed mid-surface tessellated per knot span;
+point data `parameters` (ξ, η), `displacement`, `n`, `m`, `sigma_top`, `sigma_bottom` (components
+11, 22, 12 in the local Cartesian frame whose first axis e1 ∥ a₁ is written as `e1`),
+`principal_top/bottom` (1, 2), `von_mises_top/bottom`). Given a run directory, the last vtk/<shell>_NNNNNN.vtu is used (the
 patch's own file; vtk/step_NNNNNN.vtu holds bodies, beams and director shells); a run with
 several Kirchhoff–Love shells needs the file itself.
 
@@ -72,21 +72,46 @@ def vtu_path(arg):
     return arg
 
 
+TYPES = {"Float64": "<f8", "Float32": "<f4", "Int64": "<i8", "Int32": "<i4", "UInt8": "u1"}
+
+
 def read_vtu(path):
-    """Point data {name: array (n,) or (n, k)}, points (n, 3), quads (m, 4)."""
+    """Point data {name: array (n,) or (n, k)}, points (n, 3), quads (m, 4).
+
+    The arrays are ascii or appended raw binary (VTK XML Formats: <AppendedData encoding="raw">,
+    data after its '_', each array's block at its offset: the byte count as header_type (UInt32
+    or UInt64), then the little-endian values)."""
+    with open(path, "rb") as f:
+        content = f.read()
+    appended = content.find(b'<AppendedData encoding="raw">')
+    raw = b""
+    if appended >= 0:  # the raw bytes are not XML: parse the markup without them
+        raw = content[content.index(b"_", appended) + 1:]
+        content = content[:appended] + b"</VTKFile>"
     try:
-        root = ET.parse(path).getroot()
+        root = ET.fromstring(content)
     except ET.ParseError as e:
         fail(f"cannot parse {path}: {e}")
+    if raw and root.get("byte_order", "LittleEndian") != "LittleEndian":
+        fail(f"{path}: binary data not LittleEndian")
+    header = np.dtype("<u8" if root.get("header_type") == "UInt64" else "<u4")
     piece = root.find(".//Piece")
     if piece is None:
         fail(f"{path}: no <Piece> (not an UnstructuredGrid .vtu)")
 
     def array(da):
-        if da.get("format", "ascii") != "ascii":
-            fail(f"{path}: DataArray {da.get('Name')!r} is not ascii")
         k = int(da.get("NumberOfComponents", "1"))
-        v = np.array((da.text or "").split(), dtype=float)
+        fmt = da.get("format", "ascii")
+        if fmt == "ascii":
+            v = np.array((da.text or "").split(), dtype=float)
+        elif fmt == "appended" and raw and da.get("type") in TYPES:
+            at = int(da.get("offset"))
+            n = int(np.frombuffer(raw, header, 1, at)[0])
+            v = np.frombuffer(raw[at + header.itemsize:at + header.itemsize + n],
+                              TYPES[da.get("type")]).astype(float)
+        else:
+            fail(f"{path}: DataArray {da.get('Name')!r} is {fmt} of type {da.get('type')} "
+                 f"(ascii or appended raw expected)")
         return v.reshape(-1, k) if k > 1 else v
 
     data = {}

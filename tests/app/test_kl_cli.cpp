@@ -1,6 +1,7 @@
 // `isoflex check` and `isoflex run --static` on a Kirchhoff–Love shell model end to end: the
 // counts printed, the outputs written (summary.json probe, probes.csv, history.csv, VTU with the
-// stress fields, results.pvd), located errors with exit code 2 and a Newton failure with exit 3.
+// stress fields in either output.vtk_format, results.pvd), located errors with exit code 2 and a
+// Newton failure with exit 3.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,6 +15,8 @@
 #include "support/cli.hpp"
 #include "support/files.hpp"
 #include "support/kl_plate_grid.hpp"
+#include "support/run_outputs.hpp"
+#include "support/vtu.hpp"
 
 namespace fs = std::filesystem;
 
@@ -101,6 +104,60 @@ TEST(KLCli, StaticRunWritesOutputsAndTheProbe) {
   EXPECT_NE(pvd.find("timestep=\"1\" group=\"\" part=\"1\" file=\"vtk/plate_000002.vtu\""),
             std::string::npos)
       << pvd;
+}
+
+// output.vtk_format: binary by default (every array appended raw), ascii when the file or
+// `--set output.vtk_format=ascii` says so (no appended data), the same arrays either way; a value
+// other than binary and ascii is a located error.
+TEST(KLCli, VtkFormatIsBinaryByDefaultAndAsciiOnRequest) {
+  const fs::path d = temp_dir("vtk_format");
+  const std::string model = (d / "m.yaml").string();
+  std::ofstream(d / "m.yaml") << plate();
+  ASSERT_EQ(run("run --static " + model + " -o " + (d / "bin").string()).code, 0);
+  const Result r = run("run --static " + model + " -o " + (d / "ascii").string() +
+                       " --set output.vtk_format=ascii");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto files = isoflex::test::expect_consistent_vtk_series(d / "bin");
+  EXPECT_EQ(isoflex::test::expect_consistent_vtk_series(d / "ascii"), files);
+  ASSERT_EQ(files.size(), 6u);  // the step file and the patch file of t = 0, 0.5, 1
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const std::string bin = read(d / "bin" / f), ascii = read(d / "ascii" / f);
+    EXPECT_NE(bin.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+    EXPECT_EQ(bin.find("format=\"ascii\""), std::string::npos);
+    EXPECT_EQ(ascii.find("AppendedData"), std::string::npos);
+    EXPECT_EQ(ascii.find("format=\"appended\""), std::string::npos);
+    const auto names = isoflex::test::data_array_names(bin, "VTKFile");
+    EXPECT_EQ(isoflex::test::data_array_names(ascii, "VTKFile"), names);
+    for (const auto& name : names)
+      EXPECT_EQ(isoflex::test::data_array(ascii, name), isoflex::test::data_array(bin, name))
+          << name;
+  }
+  EXPECT_EQ(
+      isoflex::test::data_array(read(d / "bin" / "vtk" / "plate_000002.vtu"), "Points").size(),
+      3u * 33 * 33);  // 8 × 8 elements, 4 × 4 quads each
+
+  std::ofstream(d / "ascii.yaml") << plate() << "output: {vtk_format: ascii}\n";
+  ASSERT_EQ(
+      run("run --static " + (d / "ascii.yaml").string() + " -o " + (d / "file").string()).code, 0);
+  EXPECT_EQ(read(d / "file" / "vtk" / "plate_000002.vtu"),
+            read(d / "ascii" / "vtk" / "plate_000002.vtu"));
+
+  std::ofstream(d / "bad.yaml") << plate() << "output:\n  vtk_format: raw\n";
+  const Result bad =
+      run("run --static " + (d / "bad.yaml").string() + " -o " + (d / "bad").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("bad.yaml:21: output.vtk_format: unknown format \"raw\" (valid: binary, "
+                         "ascii)"),
+            std::string::npos)
+      << bad.out;
+  const Result set = run("check " + model + " --set output.vtk_format=raw");
+  EXPECT_EQ(set.code, 2);
+  EXPECT_NE(set.out.find("output.vtk_format: unknown format \"raw\" (valid: binary, ascii) (the "
+                         "value of --set output.vtk_format=raw)"),
+            std::string::npos)
+      << set.out;
+  fs::remove_all(d);
 }
 
 // --threads: the same results bit for bit on 1 and 3 threads (24 × 24 elements, 9 216 points:

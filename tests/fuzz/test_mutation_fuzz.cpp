@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -35,6 +36,7 @@
 #include <vector>
 
 #include "support/files.hpp"
+#include "support/vtu.hpp"
 
 namespace isoflex::test {
 namespace {
@@ -147,12 +149,21 @@ bool is_token_char(char c) {
 // The first non-finite number in the files of `dir` (recursively), as "FILE: …", or "".
 // nan and inf as printed by fmt/printf ("nan", "-nan", "inf", "-inf"), and in summary.json
 // `null`, which is how it writes a non-finite number, except for max_energy_drift_after_loads
-// (NaN by design when loads act, README).
+// (NaN by design when loads act, README). In a .vtu with binary arrays the values are read from
+// the appended data and only the markup before it is searched as text.
 std::string non_finite_in_outputs(const fs::path& dir) {
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
-    const std::string text = read_text(entry.path());
+    std::string text = read_text(entry.path());
     const std::string name = entry.path().filename().string();
+    if (entry.path().extension() == ".vtu") {
+      for (const auto& array : test::data_array_names(text, "VTKFile"))
+        for (const double v : test::data_array(text, array))
+          if (!std::isfinite(v))
+            return fs::relative(entry.path(), dir).string() + ": " + std::to_string(v) + " in " +
+                   array;
+      text.resize(test::detail::raw_data_begin(text));
+    }
     for (std::size_t i = 0; i < text.size();) {
       if (!is_token_char(text[i])) {
         ++i;

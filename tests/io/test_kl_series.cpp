@@ -76,8 +76,9 @@ const std::vector<integrate::Snapshot>& plate_run() {
 }
 
 // The plate's snapshots fed to a writer with `every`, then on_finish.
-void write_series(const fs::path& dir, int every, int per_span = io::kKLShellQuadsPerSpan) {
-  io::VtkSeriesWriter w(dir, plate_model(), every, per_span);
+void write_series(const fs::path& dir, int every, int per_span = io::kKLShellQuadsPerSpan,
+                  model::VtkFormat format = model::VtkFormat::binary) {
+  io::VtkSeriesWriter w(dir, plate_model(), every, format, per_span);
   for (const auto& s : plate_run()) w.on_snapshot(s);
   w.on_finish();
 }
@@ -127,7 +128,7 @@ TEST(KLSeries, PatchFilesOfTheWrittenStepsArePart1OfTheCollection) {
   ASSERT_EQ(run.back().kl_patches.size(), 1u);
   std::vector<std::string> files;
   {
-    io::VtkSeriesWriter w(dir.path(), plate_model(), 2);
+    io::VtkSeriesWriter w(dir.path(), plate_model(), 2, model::VtkFormat::binary);
     for (const auto& s : run) w.on_snapshot(s);
     w.on_finish();
     files = w.files();
@@ -236,6 +237,27 @@ TEST(KLSeries, PointsAndCellsAreTheTessellation) {
   EXPECT_EQ(io::kKLShellQuadsPerSpan, 4);
 }
 
+// The patch files in binary and in ascii hold the same arrays bit for bit.
+TEST(KLSeries, BinaryAndAsciiPatchFilesHoldTheSameArraysBitForBit) {
+  TempDir dir;
+  write_series(dir.path() / "binary", 2);
+  write_series(dir.path() / "ascii", 2, io::kKLShellQuadsPerSpan, model::VtkFormat::ascii);
+  for (const char* f : {"vtk/plate_000000.vtu", "vtk/plate_000004.vtu", "vtk/plate_000005.vtu",
+                        "vtk/step_000005.vtu"}) {
+    SCOPED_TRACE(f);
+    const std::string binary = read_text(dir.path() / "binary" / f);
+    const std::string ascii = read_text(dir.path() / "ascii" / f);
+    EXPECT_EQ(xml_error(binary), "");
+    EXPECT_EQ(xml_error(ascii), "");
+    EXPECT_NE(binary.find("format=\"appended\""), std::string::npos);
+    EXPECT_EQ(binary.find("format=\"ascii\""), std::string::npos);
+    EXPECT_EQ(ascii.find("format=\"appended\""), std::string::npos);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+  }
+  EXPECT_EQ(data_array(read_text(dir.path() / "ascii/vtk/plate_000005.vtu"), "Points").size(),
+            3u * 9 * 5);  // 2 × 1 elements, 4 × 4 quads each
+}
+
 // The patch file is kl_shell_vtu of the snapshot's x with the model's kinematics: the same
 // fields as the static analysis writes, and the analysis overload is the patch overload.
 TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
@@ -244,7 +266,8 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
   const model::Model m = plate_model();
   const auto patch = system::kl_patch(m, 0, system::kl_surface(m, m.kl_shells[0]));
   const VecX& x = plate_run().back().kl_patches.front().x;
-  const std::string expected = io::kl_shell_vtu(*patch, system::kl_kinematics(m), x, 4);
+  const std::string expected =
+      io::kl_shell_vtu(*patch, system::kl_kinematics(m), x, 4, model::VtkFormat::binary);
   EXPECT_EQ(read_text(dir.path() / "vtk/plate_000005.vtu"), expected);
   const std::vector<std::string> fields = {"parameters",
                                            "displacement",
@@ -259,7 +282,8 @@ TEST(KLSeries, PatchFileIsKLShellVtuWithTheStaticFields) {
                                            "e1"};
   EXPECT_EQ(test::data_array_names(expected, "PointData"), fields);
 
-  EXPECT_THROW(io::kl_shell_vtu(*patch, elements::KLKinematics::nonlinear, x.head(x.size() - 3), 2),
+  EXPECT_THROW(io::kl_shell_vtu(*patch, elements::KLKinematics::nonlinear, x.head(x.size() - 3), 2,
+                                model::VtkFormat::binary),
                std::invalid_argument);
 }
 
@@ -270,7 +294,7 @@ TEST(KLSeries, NoPatchesNoPatchFilesAndBadPatchesThrow) {
   integrate::Snapshot s = plate_run().front();
   s.kl_patches.clear();
   {
-    io::VtkSeriesWriter w(dir.path(), plate_model(), 1);
+    io::VtkSeriesWriter w(dir.path(), plate_model(), 1, model::VtkFormat::binary);
     w.on_snapshot(s);
     w.on_finish();
     EXPECT_EQ(w.files(), std::vector<std::string>{"vtk/step_000000.vtu"});
@@ -278,7 +302,7 @@ TEST(KLSeries, NoPatchesNoPatchFilesAndBadPatchesThrow) {
   EXPECT_FALSE(fs::exists(dir.path() / "vtk/plate_000000.vtu"));
   EXPECT_EQ(read_text(dir.path() / "results.pvd").find("part=\"1\""), std::string::npos);
 
-  io::VtkSeriesWriter w(dir.path(), plate_model(), 1);
+  io::VtkSeriesWriter w(dir.path(), plate_model(), 1, model::VtkFormat::binary);
   integrate::Snapshot other = plate_run().front();
   other.kl_patches.front().shell = "sheet";
   EXPECT_THROW(w.on_snapshot(other), std::runtime_error);

@@ -215,6 +215,7 @@ TEST(ModelReader, DefaultsOfAMinimalModel) {
   EXPECT_EQ(m.solver.max_iterations, defaults.solver.max_iterations);
   EXPECT_EQ(m.output.vtk_every, defaults.output.vtk_every);
   EXPECT_EQ(m.output.history, defaults.output.history);
+  EXPECT_EQ(m.output.vtk_format, model::VtkFormat::binary);
   ASSERT_EQ(m.bodies.size(), 1u);
   EXPECT_EQ(m.bodies[0].shape.kind, model::ShapeKind::none);
   EXPECT_TRUE(m.joints.empty() && m.loads.empty() && m.probes.empty());
@@ -562,6 +563,21 @@ TEST(ModelReader, SolverAndOutputValues) {
             "m.yaml:7: output.vtk_every: must be >= 0, got -1");
   EXPECT_EQ(error_of(with_bodies({"output:", "  history: maybe"})),
             "m.yaml:7: output.history: expected true or false");
+}
+
+// How the .vtu files hold their arrays (io/vtu_data_arrays.hpp).
+TEST(ModelReader, OutputVtkFormat) {
+  const auto read = [](const std::string& line) {
+    return read_model_string(with_bodies({line}), "m.yaml").output.vtk_format;
+  };
+  EXPECT_EQ(read("output: {vtk_format: binary}"), model::VtkFormat::binary);
+  EXPECT_EQ(read("output: {vtk_format: ascii}"), model::VtkFormat::ascii);
+  EXPECT_EQ(error_of(with_bodies({"output:", "  vtk_format: base64"})),
+            "m.yaml:7: output.vtk_format: unknown format \"base64\" (valid: binary, ascii)");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  vtk_format: ASCII"})),
+            "m.yaml:7: output.vtk_format: unknown format \"ASCII\" (valid: binary, ascii)");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  vtk_format: [ascii]"})),
+            "m.yaml:7: output.vtk_format: expected a string");
 }
 
 TEST(ModelReader, ShapesAndPoints) {

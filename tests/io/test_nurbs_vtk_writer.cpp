@@ -121,7 +121,7 @@ TEST(NurbsVtk, RationalBezierCellsOfQuarterCylinder) {
   }
   TempDir dir;
   const fs::path file = dir.path() / "cyl.vtu";
-  io::write_nurbs_bezier_vtu(file, s, {height, pos});
+  io::write_nurbs_bezier_vtu(file, s, model::VtkFormat::binary, {height, pos});
   const std::string xml = read_text(file);
 
   ASSERT_EQ(attribute(xml, "NumberOfCells"), "4");
@@ -205,7 +205,7 @@ TEST(NurbsVtk, RationalBezierCellsOfQuarterCylinder) {
   io::SurfaceField cell_id{"cell", 1, {}, io::SurfaceField::Location::bezier_points};
   for (int c = 0; c < 4; ++c)
     for (int k = 0; k < 9; ++k) cell_id.values.push_back(10 * c + k);
-  const std::string xml2 = io::nurbs_bezier_vtu(s, {cell_id});
+  const std::string xml2 = io::nurbs_bezier_vtu(s, model::VtkFormat::binary, {cell_id});
   const auto cid = data_array(xml2, "cell");
   const auto conn2 = data_array(xml2, "connectivity");
   ASSERT_EQ(cid.size(), 36u);
@@ -217,7 +217,7 @@ TEST(NurbsVtk, RationalBezierCellsOfQuarterCylinder) {
 
   // Wrong sizes are reported.
   io::SurfaceField bad{"bad", 3, {1.0, 2.0}, io::SurfaceField::Location::control_points};
-  EXPECT_THROW(io::nurbs_bezier_vtu(s, {bad}), std::invalid_argument);
+  EXPECT_THROW(io::nurbs_bezier_vtu(s, model::VtkFormat::binary, {bad}), std::invalid_argument);
 }
 
 TEST(NurbsVtk, TessellationOfQuarterCylinder) {
@@ -235,7 +235,7 @@ TEST(NurbsVtk, TessellationOfQuarterCylinder) {
 
   TempDir dir;
   const fs::path file = dir.path() / "cyl_tess.vtu";
-  io::write_nurbs_tessellated_vtu(file, s, n, {angle, height});
+  io::write_nurbs_tessellated_vtu(file, s, n, model::VtkFormat::binary, {angle, height});
   const std::string xml = read_text(file);
   const int np = (2 * n + 1) * (2 * n + 1), nc = (2 * n) * (2 * n);
   ASSERT_EQ(attribute(xml, "NumberOfPoints"), std::to_string(np));
@@ -273,12 +273,12 @@ TEST(NurbsVtk, TessellationOfQuarterCylinder) {
   EXPECT_EQ(par[2 * (np - 1)], 1.0);
   EXPECT_EQ(par[2 * (np - 1) + 1], 1.0);
   RecordProperty("worst_radius_error", sci(worst));
-  EXPECT_THROW(io::nurbs_tessellated_vtu(s, 0), std::invalid_argument);
+  EXPECT_THROW(io::nurbs_tessellated_vtu(s, 0, model::VtkFormat::binary), std::invalid_argument);
 }
 
 TEST(NurbsVtk, ControlNet) {
   const geometry::NurbsSurface s = quarter_cylinder(1.0, 1.0);
-  const std::string xml = io::nurbs_control_net_vtu(s);
+  const std::string xml = io::nurbs_control_net_vtu(s, model::VtkFormat::binary);
   ASSERT_EQ(attribute(xml, "NumberOfPoints"), "16");
   ASSERT_EQ(attribute(xml, "NumberOfCells"), "24");  // 4 rows × 3 + 4 columns × 3
   const auto types = data_array(xml, "types");
@@ -293,6 +293,30 @@ TEST(NurbsVtk, ControlNet) {
   const auto w = data_array(xml, "weight");
   ASSERT_EQ(w.size(), 16u);
   EXPECT_NEAR(w[1], 0.5 * (1.0 + std::sqrt(0.5)), 1e-16);
+}
+
+// The three views in binary and in ascii hold the same arrays bit for bit (the ascii numbers
+// with the digits that read back to the same double).
+TEST(NurbsVtk, BinaryAndAsciiHoldTheSameArraysBitForBit) {
+  const geometry::NurbsSurface s = quarter_cylinder(1.25, 0.8);
+  io::SurfaceField height{"height", 1, {}, io::SurfaceField::Location::control_points};
+  for (const Vec3& p : s.points) height.values.push_back(p.z() / 3);
+  io::SampledField angle;
+  angle.name = "angle";
+  angle.at = [](double, double, const Vec3& x, double* out) { out[0] = std::atan2(x.y(), x.x()); };
+  for (const auto& [binary, ascii] :
+       {std::pair{io::nurbs_bezier_vtu(s, model::VtkFormat::binary, {height}),
+                  io::nurbs_bezier_vtu(s, model::VtkFormat::ascii, {height})},
+        std::pair{io::nurbs_tessellated_vtu(s, 3, model::VtkFormat::binary, {angle}),
+                  io::nurbs_tessellated_vtu(s, 3, model::VtkFormat::ascii, {angle})},
+        std::pair{io::nurbs_control_net_vtu(s, model::VtkFormat::binary),
+                  io::nurbs_control_net_vtu(s, model::VtkFormat::ascii)}}) {
+    EXPECT_EQ(test::xml_error(binary), "");
+    EXPECT_EQ(test::xml_error(ascii), "");
+    EXPECT_EQ(count(binary, "format=\"appended\""), count(ascii, "format=\"ascii\""));
+    EXPECT_EQ(count(binary, "format=\"ascii\""), 0);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+  }
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 // Output writers (VTK series, CSV histories, summary JSON) and the progress display, fed with a
 // hand-made model and fake snapshots.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -325,7 +328,7 @@ TEST(VtkWriter, WritesEveryKthAndLastSnapshotWithConsistentArrays) {
   TempDir dir;
   const auto model = two_body_model();
   {
-    io::VtkSeriesWriter w(dir.path(), model, 2);
+    io::VtkSeriesWriter w(dir.path(), model, 2, model::VtkFormat::binary);
     w.on_snapshot(snapshot(0, 0.0));
     w.on_snapshot(snapshot(1, 0.1));
     w.on_snapshot(snapshot(2, 0.2));
@@ -363,7 +366,7 @@ TEST(VtkWriter, WritesEveryKthAndLastSnapshotWithConsistentArrays) {
 TEST(VtkWriter, NoExtraFileWhenLastSnapshotWasWritten) {
   TempDir dir;
   const auto model = two_body_model();
-  io::VtkSeriesWriter w(dir.path(), model, 2);
+  io::VtkSeriesWriter w(dir.path(), model, 2, model::VtkFormat::binary);
   for (int k = 0; k < 3; ++k) w.on_snapshot(snapshot(k, 0.1 * k));
   w.on_finish();
   EXPECT_EQ(w.files(), (std::vector<std::string>{"vtk/step_000000.vtu", "vtk/step_000002.vtu"}));
@@ -372,7 +375,7 @@ TEST(VtkWriter, NoExtraFileWhenLastSnapshotWasWritten) {
 TEST(VtkWriter, CollectionListsFilesAndTimes) {
   TempDir dir;
   const auto model = two_body_model();
-  io::VtkSeriesWriter w(dir.path(), model, 1);
+  io::VtkSeriesWriter w(dir.path(), model, 1, model::VtkFormat::binary);
   const double times[] = {0.0, 0.125, 0.3};
   for (int k = 0; k < 3; ++k) {
     w.on_snapshot(snapshot(k, times[k]));
@@ -401,7 +404,7 @@ TEST(VtkWriter, PyramidApexAndVelocityInRotatedPose) {
   TempDir dir;
   const auto model = two_body_model();
   const auto s = snapshot(0, 0.4);
-  io::VtkSeriesWriter w(dir.path(), model, 1);
+  io::VtkSeriesWriter w(dir.path(), model, 1, model::VtkFormat::binary);
   w.on_snapshot(s);
   w.on_finish();
   const Vtu v = read_vtu(dir.path() / "vtk/step_000000.vtu");
@@ -560,7 +563,7 @@ TEST(VtkWriter, DirectorLength) {
 TEST(VtkWriter, ZeroEveryWritesNothing) {
   TempDir dir;
   const auto model = two_body_model();
-  io::VtkSeriesWriter w(dir.path(), model, 0);
+  io::VtkSeriesWriter w(dir.path(), model, 0, model::VtkFormat::binary);
   w.on_snapshot(snapshot(0, 0.0));
   w.on_finish();
   EXPECT_TRUE(w.files().empty());
@@ -578,7 +581,7 @@ TEST(VtkWriter, ShellQuadsPointsAndCellData) {
   const auto model = shell_model();
   const auto s0 = shell_snapshot(0, 0.0), s1 = shell_snapshot(1, 0.5);
   {
-    io::VtkSeriesWriter w(dir.path(), model, 1);
+    io::VtkSeriesWriter w(dir.path(), model, 1, model::VtkFormat::binary);
     w.on_snapshot(s0);
     w.on_snapshot(s1);
     w.on_finish();
@@ -674,7 +677,7 @@ TEST(VtkWriter, ShellDisplacementIsFromTheFirstSnapshot) {
   const auto model = shell_model();
   const auto first = shell_snapshot(1, 0.25);
   {
-    io::VtkSeriesWriter w(dir.path(), model, 2);
+    io::VtkSeriesWriter w(dir.path(), model, 2, model::VtkFormat::binary);
     w.on_snapshot(first);
     w.on_snapshot(shell_snapshot(2, 0.5));
     w.on_snapshot(shell_snapshot(3, 0.75));
@@ -696,8 +699,8 @@ TEST(VtkWriter, ShellDisplacementIsFromTheFirstSnapshot) {
 }
 
 // Without shell elements (no shells in the model, or shells but no elements in the snapshot)
-// the file is byte for byte what the writer wrote before shells existed (this text was written
-// by that writer): a body without shape, its director lines and a beam element.
+// the ascii file is byte for byte what the writer wrote before shells existed (this text was
+// written by that writer): a body without shape, its director lines and a beam element.
 TEST(VtkWriter, OutputWithoutShellsIsUnchanged) {
   const std::string expected =
       "<?xml version=\"1.0\"?>\n"
@@ -820,7 +823,7 @@ TEST(VtkWriter, OutputWithoutShellsIsUnchanged) {
     auto model = m;
     if (shell_in_model) model.shells.resize(1), model.shells[0].name = "p";
     {
-      io::VtkSeriesWriter w(dir.path(), model, 1);
+      io::VtkSeriesWriter w(dir.path(), model, 1, model::VtkFormat::ascii);
       w.on_snapshot(s);
       w.on_finish();
     }
@@ -874,7 +877,7 @@ TEST(VtkWriter, ShellMeshAndVonMises) {
   auto model = shell_model();
   model.shells.pop_back();
   model.shells.pop_back();  // only q
-  io::VtkSeriesWriter w(dir.path(), model, 1);
+  io::VtkSeriesWriter w(dir.path(), model, 1, model::VtkFormat::binary);
   EXPECT_THROW(w.on_snapshot(s0), std::runtime_error);  // p is not in the model
 }
 
@@ -983,6 +986,81 @@ shell_loads:
       EXPECT_EQ(m_vm[kHubCells], 0.0);
     }
   }
+}
+
+// A binary and an ascii file of the same snapshots hold the same arrays bit for bit: the ascii
+// numbers are written with the digits that read back to the same double. The snapshots have
+// numbers that need 16 or 17 of them.
+TEST(VtkWriter, BinaryAndAsciiFilesHoldTheSameArraysBitForBit) {
+  TempDir dir;
+  std::vector<std::string> files;
+  for (const auto format : {model::VtkFormat::binary, model::VtkFormat::ascii}) {
+    io::VtkSeriesWriter w(dir.path() / (format == model::VtkFormat::ascii ? "ascii" : "binary"),
+                          shell_model(), 1, format);
+    for (int step = 0; step < 3; ++step) w.on_snapshot(shell_snapshot(step, 0.1 * step));
+    w.on_finish();
+    files = w.files();
+  }
+  ASSERT_EQ(files.size(), 3u);
+  int long_numbers = 0;
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const std::string binary = read_text(dir.path() / "binary" / f);
+    const std::string ascii = read_text(dir.path() / "ascii" / f);
+    EXPECT_NE(binary.find("AppendedData"), std::string::npos);
+    EXPECT_EQ(ascii.find("AppendedData"), std::string::npos);
+    EXPECT_EQ(data_array_names(binary, "VTKFile").size(), 26u);
+    EXPECT_EQ(test::data_arrays_difference(binary, ascii), "");
+    for (const double v : data_array(binary, "Points"))
+      long_numbers += std::stod(fmt::format("{:.15g}", v)) != v;
+  }
+  EXPECT_GT(long_numbers, 10);
+}
+
+// A binary file (the default) is version 1.0 with header_type="UInt64"; every array is appended,
+// and the raw appended data are exactly their blocks, each its UInt64 byte count and that many
+// bytes, in the order of the offsets, ending where </AppendedData> begins.
+TEST(VtkWriter, AppendedBlocksAreWhereTheirOffsetsAndByteCountsSay) {
+  TempDir dir;
+  {
+    io::VtkSeriesWriter w(dir.path(), shell_model(), 1, model::VtkFormat::binary);
+    w.on_snapshot(shell_snapshot(0, 0.25));
+    w.on_finish();
+  }
+  const std::string file = read_text(dir.path() / "vtk/step_000000.vtu");
+  EXPECT_NE(file.find("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+                      "byte_order=\"LittleEndian\" header_type=\"UInt64\">"),
+            std::string::npos);
+  const auto raw = file.find("<AppendedData encoding=\"raw\">\n   _");
+  ASSERT_NE(raw, std::string::npos);
+  EXPECT_EQ(file.find("format=\"ascii\""), std::string::npos);
+  // Walked here by hand too: block k at offset k's position, its count, the next one after it.
+  const std::size_t data = raw + std::string("<AppendedData encoding=\"raw\">\n   _").size();
+  std::size_t at = 0, arrays = 0;
+  for (auto tag = file.find("<DataArray"); tag < raw; tag = file.find("<DataArray", tag + 1)) {
+    const std::regex offset(R"re(^<DataArray [^>]* format="appended" offset="([0-9]+)"/>)re");
+    std::smatch m;
+    const std::string element = file.substr(tag, file.find('>', tag) + 1 - tag);
+    ASSERT_TRUE(std::regex_search(element, m, offset)) << element;
+    EXPECT_EQ(std::stoull(m[1]), at) << element;
+    std::uint64_t bytes;
+    std::memcpy(&bytes, file.data() + data + at, sizeof bytes);
+    at += sizeof bytes + bytes;
+    ++arrays;
+  }
+  EXPECT_EQ(arrays, data_array_names(file, "VTKFile").size());
+  EXPECT_EQ(arrays, 26u);  // 4 field data, 3 point data, 15 cell data, Points, 3 Cells
+  EXPECT_EQ(file.substr(data + at), "\n  </AppendedData>\n</VTKFile>\n");
+  EXPECT_EQ(test::appended_data_error(file), "");
+  EXPECT_EQ(xml_error(file), "");
+
+  // The check of support/vtu.hpp catches a wrong count and a missing block.
+  std::string longer = file;
+  ++longer[data];  // the first block's count, little-endian
+  EXPECT_NE(test::appended_data_error(longer), "");
+  std::string shorter = file;
+  shorter.erase(data, 8 + 8);  // the first block (TimeValue: count and one Float64)
+  EXPECT_NE(test::appended_data_error(shorter), "");
 }
 
 // The well-formedness check of support/vtu.hpp finds what it is there to find.

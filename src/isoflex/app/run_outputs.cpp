@@ -40,7 +40,8 @@ RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& 
     if (m.output.reactions) observers_.push_back(std::make_unique<io::ReactionsWriter>(outdir, m));
   }
   if (m.output.vtk_every > 0)
-    observers_.push_back(std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every));
+    observers_.push_back(
+        std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every, m.output.vtk_format));
   const bool by_path = m.solver.analysis == model::Analysis::statics &&
                        m.solver.path.method == model::PathMethod::displacement;
   observers_.push_back(

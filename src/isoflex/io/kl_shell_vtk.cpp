@@ -15,7 +15,7 @@
 namespace isoflex::io {
 
 std::string kl_shell_vtu(const elements::KLShellPatch& patch, elements::KLKinematics kin,
-                         const VecX& x, int n_per_span) {
+                         const VecX& x, int n_per_span, model::VtkFormat format) {
   if (x.size() != patch.dofs()) {
     throw std::invalid_argument(
         fmt::format("KL shell VTU: {} coordinates for a patch of {} control points", x.size(),
@@ -82,7 +82,7 @@ std::string kl_shell_vtu(const elements::KLShellPatch& patch, elements::KLKinema
   fields.push_back(
       field("von_mises_bottom", 1, [](const auto& s, double* o) { o[0] = s.von_mises_bottom; }));
   fields.push_back(field("e1", 3, [&](const auto& s, double* o) { vec3(s.frame.col(0), o); }));
-  return nurbs_tessellated_vtu(deformed, n_per_span, fields);
+  return nurbs_tessellated_vtu(deformed, n_per_span, format, fields);
 }
 
 }  // namespace isoflex::io

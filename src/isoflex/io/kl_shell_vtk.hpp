@@ -15,16 +15,17 @@
 #include <string>
 
 #include "isoflex/elements/kl_shell_patch.hpp"
+#include "isoflex/model/model.hpp"
 
 namespace isoflex::io {
 
 // Quads per knot span and direction of the tessellation unless told otherwise.
 inline constexpr int kKLShellQuadsPerSpan = 4;
 
-// The .vtu text of the tessellated deformed patch at x (control points stacked as the patch's x)
-// with the fields above; the stresses are recovered with kinematics `kin`. Throws
+// The .vtu text (in `format`) of the tessellated deformed patch at x (control points stacked as
+// the patch's x) with the fields above; the stresses are recovered with kinematics `kin`. Throws
 // std::invalid_argument when x does not have patch.dofs() entries.
 std::string kl_shell_vtu(const elements::KLShellPatch& patch, elements::KLKinematics kin,
-                         const VecX& x, int n_per_span);
+                         const VecX& x, int n_per_span, model::VtkFormat format);
 
 }  // namespace isoflex::io

@@ -363,8 +363,15 @@ class Reader : YamlFields {
   void read_output(const YAML::Node& n, model::Output& o) const {
     if (n.IsNull()) return;
     expect_map(n, "output");
-    check_keys(n, "output", {"vtk_every", "history", "reactions"});
+    check_keys(n, "output", {"vtk_every", "vtk_format", "history", "reactions"});
     if (const auto v = n["vtk_every"]) o.vtk_every = integer(v, "output.vtk_every", 0);
+    if (const auto v = n["vtk_format"]) {
+      const std::string name = string(v, "output.vtk_format");
+      if (name == "ascii")
+        o.vtk_format = model::VtkFormat::ascii;
+      else if (name != "binary")
+        fail(v, "output.vtk_format", "unknown format \"" + name + "\" (valid: binary, ascii)");
+    }
     if (const auto v = n["history"]) o.history = boolean(v, "output.history");
     if (const auto v = n["reactions"]) o.reactions = boolean(v, "output.reactions");
   }

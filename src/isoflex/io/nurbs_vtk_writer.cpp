@@ -2,14 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-#include <iterator>
+#include <cstdint>
 #include <stdexcept>
 #include <string_view>
 
 #include "isoflex/geometry/bezier_extraction.hpp"
 #include "isoflex/geometry/quadrature.hpp"
 #include "isoflex/io/summary_writer.hpp"
+#include "isoflex/io/vtu_data_arrays.hpp"
 
 namespace isoflex::io {
 
@@ -18,52 +18,31 @@ namespace {
 inline constexpr unsigned char kVtkLine = 3;
 inline constexpr unsigned char kVtkQuad = 9;
 
-// Minimal writer of one <Piece> of a VTK XML UnstructuredGrid in ascii, in the order the format
-// expects: PointData, CellData, Points, Cells. Doubles with 17 significant digits, so that a
-// reader gets the bits back (the rational Bézier points are checked to round-off); non-finite
-// numbers become 0, as in vtk_writer.cpp, because VTK's ascii readers reject nan/inf.
+// One <Piece> of a VTK XML UnstructuredGrid in the order the format expects: PointData, CellData,
+// Points, Cells.
 class VtuText {
  public:
-  VtuText(std::size_t n_points, std::size_t n_cells) {
-    put("<?xml version=\"1.0\"?>\n"
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-        "header_type=\"UInt64\">\n"
-        "  <UnstructuredGrid>\n");
-    fmt::format_to(it(), "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points,
-                   n_cells);
+  VtuText(std::size_t n_points, std::size_t n_cells, model::VtkFormat format) : a_(format) {
+    a_.start("1.0");
+    a_.xml("  <UnstructuredGrid>\n");
+    a_.xml("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points, n_cells);
   }
   // `attributes` e.g. `RationalWeights="RationalWeights"` (the active-attribute markers).
   void open(std::string_view section, std::string_view attributes = {}) {
-    fmt::format_to(it(), "      <{}{}{}>\n", section, attributes.empty() ? "" : " ", attributes);
+    a_.xml("      <{}{}{}>\n", section, attributes.empty() ? "" : " ", attributes);
   }
-  void close(std::string_view section) { fmt::format_to(it(), "      </{}>\n", section); }
+  void close(std::string_view section) { a_.xml("      </{}>\n", section); }
 
   void reals(std::string_view name, int n_components, const std::vector<double>& v) {
-    fmt::format_to(it(),
-                   "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" "
-                   "format=\"ascii\">\n",
-                   name, n_components);
-    for (std::size_t k = 0; k < v.size(); ++k) {
-      if (k % n_components == 0) put("          ");
-      const double x = std::isfinite(v[k]) ? v[k] : 0.0;
-      fmt::format_to(it(), "{:.17g}", x);
-      put((k + 1) % n_components == 0 ? "\n" : " ");
-    }
-    put("        </DataArray>\n");
+    a_.open(8, VtkType::float64, name, components(n_components));
+    a_.reals(v, static_cast<std::size_t>(n_components));
+    a_.close();
   }
-  void integers(std::string_view type, std::string_view name, int n_components,
-                const std::vector<long long>& v) {
-    fmt::format_to(it(),
-                   "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" "
-                   "format=\"ascii\">\n",
-                   type, name, n_components);
-    constexpr std::size_t per_line = 24;
-    for (std::size_t k = 0; k < v.size(); ++k) {
-      if (k % per_line == 0) put("          ");
-      fmt::format_to(it(), "{}", v[k]);
-      put((k + 1) % per_line == 0 || k + 1 == v.size() ? "\n" : " ");
-    }
-    put("        </DataArray>\n");
+  void integers(VtkType type, std::string_view name, int n_components,
+                const std::vector<std::int64_t>& v) {
+    a_.open(8, type, name, components(n_components));
+    a_.integers(v, 24);
+    a_.close();
   }
   void points(const std::vector<double>& xyz) {
     open("Points");
@@ -71,25 +50,24 @@ class VtuText {
     close("Points");
   }
   // Cells given by their connectivity, end offsets and types.
-  void cells(const std::vector<long long>& connectivity, const std::vector<long long>& offsets,
-             const std::vector<long long>& types) {
+  void cells(const std::vector<std::int64_t>& connectivity,
+             const std::vector<std::int64_t>& offsets, const std::vector<std::int64_t>& types) {
     open("Cells");
-    integers("Int64", "connectivity", 1, connectivity);
-    integers("Int64", "offsets", 1, offsets);
-    integers("UInt8", "types", 1, types);
+    integers(VtkType::int64, "connectivity", 1, connectivity);
+    integers(VtkType::int64, "offsets", 1, offsets);
+    integers(VtkType::uint8, "types", 1, types);
     close("Cells");
   }
   std::string finish() {
-    put("    </Piece>\n"
-        "  </UnstructuredGrid>\n"
-        "</VTKFile>\n");
-    return std::string(out_.data(), out_.size());
+    a_.xml(
+        "    </Piece>\n"
+        "  </UnstructuredGrid>\n");
+    return a_.finish();
   }
 
  private:
-  std::back_insert_iterator<fmt::memory_buffer> it() { return std::back_inserter(out_); }
-  void put(std::string_view s) { out_.append(s); }
-  fmt::memory_buffer out_;
+  static std::string components(int n) { return fmt::format(" NumberOfComponents=\"{}\"", n); }
+  VtuDataArrays a_;
 };
 
 void check_field(const std::string& name, int n_components, std::size_t n_values,
@@ -129,7 +107,7 @@ int vtk_bezier_quad_index(int i, int j, int p, int q) {
   return corners + 2 * ((p - 1) + (q - 1)) + (i - 1) + (p - 1) * (j - 1);
 }
 
-std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
+std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s, model::VtkFormat format,
                              const std::vector<SurfaceField>& fields) {
   s.validate();
   const geometry::SurfaceExtraction x = geometry::extract_surface(s);
@@ -170,30 +148,32 @@ std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
     }
   }
 
-  VtuText t(n_points, n_cells);
+  VtuText t(n_points, n_cells, format);
   t.open("PointData", "RationalWeights=\"RationalWeights\"");
   t.reals("RationalWeights", 1, w);
   for (std::size_t f = 0; f < fields.size(); ++f)
     t.reals(fields[f].name, fields[f].n_components, fv[f]);
   t.close("PointData");
   t.open("CellData", "HigherOrderDegrees=\"HigherOrderDegrees\"");
-  std::vector<long long> degrees, element;
+  std::vector<std::int64_t> degrees, element;
   for (std::size_t c = 0; c < n_cells; ++c) {
     degrees.insert(degrees.end(), {p, q, 1});
-    element.push_back(static_cast<long long>(c));
+    element.push_back(static_cast<std::int64_t>(c));
   }
-  t.integers("Int32", "HigherOrderDegrees", 3, degrees);
-  t.integers("Int32", "element", 1, element);
+  t.integers(VtkType::int32, "HigherOrderDegrees", 3, degrees);
+  t.integers(VtkType::int32, "element", 1, element);
   t.close("CellData");
   t.points(xyz);
-  std::vector<long long> conn(n_points), offsets(n_cells), types(n_cells, kVtkBezierQuadrilateral);
-  for (std::size_t k = 0; k < n_points; ++k) conn[k] = static_cast<long long>(k);
-  for (std::size_t c = 0; c < n_cells; ++c) offsets[c] = static_cast<long long>((c + 1) * n_loc);
+  std::vector<std::int64_t> conn(n_points), offsets(n_cells),
+      types(n_cells, kVtkBezierQuadrilateral);
+  for (std::size_t k = 0; k < n_points; ++k) conn[k] = static_cast<std::int64_t>(k);
+  for (std::size_t c = 0; c < n_cells; ++c) offsets[c] = static_cast<std::int64_t>((c + 1) * n_loc);
   t.cells(conn, offsets, types);
   return t.finish();
 }
 
 std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_span,
+                                  model::VtkFormat format,
                                   const std::vector<SampledField>& fields) {
   s.validate();
   if (n_per_span < 1)
@@ -249,42 +229,42 @@ std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_spa
     }
   }
 
-  VtuText t(n_points, n_cells);
+  VtuText t(n_points, n_cells, format);
   t.open("PointData");
   t.reals("parameters", 2, params);
   for (std::size_t f = 0; f < fields.size(); ++f)
     t.reals(fields[f].name, fields[f].n_components, fv[f]);
   t.close("PointData");
-  std::vector<long long> conn, offsets, types(n_cells, kVtkQuad), element;
+  std::vector<std::int64_t> conn, offsets, types(n_cells, kVtkQuad), element;
   conn.reserve(4 * n_cells);
   for (std::size_t j = 0; j + 1 < nv; ++j) {
     for (std::size_t i = 0; i + 1 < nu; ++i) {
       const auto id = [nu](std::size_t a, std::size_t b) {
-        return static_cast<long long>(a + nu * b);
+        return static_cast<std::int64_t>(a + nu * b);
       };
       conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-      offsets.push_back(static_cast<long long>(conn.size()));
-      element.push_back(static_cast<long long>(i / n_per_span + neu * (j / n_per_span)));
+      offsets.push_back(static_cast<std::int64_t>(conn.size()));
+      element.push_back(static_cast<std::int64_t>(i / n_per_span + neu * (j / n_per_span)));
     }
   }
   t.open("CellData");
-  t.integers("Int32", "element", 1, element);
+  t.integers(VtkType::int32, "element", 1, element);
   t.close("CellData");
   t.points(xyz);
   t.cells(conn, offsets, types);
   return t.finish();
 }
 
-std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
+std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s, model::VtkFormat format) {
   s.validate();
   const int nu = s.n_u(), nv = s.n_v();
   std::vector<double> xyz;
   xyz.reserve(3 * s.points.size());
   for (const Vec3& p : s.points) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-  std::vector<long long> conn, offsets, types, direction;
+  std::vector<std::int64_t> conn, offsets, types, direction;
   const auto line = [&](int a, int b, int dir) {
     conn.insert(conn.end(), {a, b});
-    offsets.push_back(static_cast<long long>(conn.size()));
+    offsets.push_back(static_cast<std::int64_t>(conn.size()));
     types.push_back(kVtkLine);
     direction.push_back(dir);
   };
@@ -293,12 +273,12 @@ std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j + 1 < nv; ++j) line(s.index(i, j), s.index(i, j + 1), 1);
 
-  VtuText t(s.points.size(), types.size());
+  VtuText t(s.points.size(), types.size(), format);
   t.open("PointData", "Scalars=\"weight\"");
   t.reals("weight", 1, s.weights);
   t.close("PointData");
   t.open("CellData");
-  t.integers("Int32", "direction", 1, direction);
+  t.integers(VtkType::int32, "direction", 1, direction);
   t.close("CellData");
   t.points(xyz);
   t.cells(conn, offsets, types);
@@ -306,18 +286,19 @@ std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s) {
 }
 
 void write_nurbs_bezier_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                            const std::vector<SurfaceField>& fields) {
-  write_file_atomic(file, nurbs_bezier_vtu(s, fields));
+                            model::VtkFormat format, const std::vector<SurfaceField>& fields) {
+  write_file_atomic(file, nurbs_bezier_vtu(s, format, fields));
 }
 
 void write_nurbs_tessellated_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                                 int n_per_span, const std::vector<SampledField>& fields) {
-  write_file_atomic(file, nurbs_tessellated_vtu(s, n_per_span, fields));
+                                 int n_per_span, model::VtkFormat format,
+                                 const std::vector<SampledField>& fields) {
+  write_file_atomic(file, nurbs_tessellated_vtu(s, n_per_span, format, fields));
 }
 
-void write_nurbs_control_net_vtu(const std::filesystem::path& file,
-                                 const geometry::NurbsSurface& s) {
-  write_file_atomic(file, nurbs_control_net_vtu(s));
+void write_nurbs_control_net_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
+                                 model::VtkFormat format) {
+  write_file_atomic(file, nurbs_control_net_vtu(s, format));
 }
 
 }  // namespace isoflex::io

@@ -1,6 +1,6 @@
 #pragma once
-// NURBS surfaces as VTK XML UnstructuredGrid files (.vtu, ascii), written by hand (no VTK
-// library), in three views:
+// NURBS surfaces as VTK XML UnstructuredGrid files (.vtu, binary or ascii: io/vtu_data_arrays.hpp),
+// written by hand (no VTK library), in three views:
 //
 // 1. Rational Bézier cells (nurbs_bezier_vtu): one VTK_BEZIER_QUADRILATERAL (type 77) per element
 //    (knot span, IGA-thesis §4.2.1), its (p+1)(q+1) Bézier control points from the Bézier
@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/model/model.hpp"
 
 namespace isoflex::io {
 
@@ -67,24 +68,26 @@ struct SampledField {
 
 // The .vtu text of the rational Bézier view. Throws std::invalid_argument on a field of the
 // wrong size or a surface that fails NurbsSurface::validate().
-std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s,
+std::string nurbs_bezier_vtu(const geometry::NurbsSurface& s, model::VtkFormat format,
                              const std::vector<SurfaceField>& fields = {});
 
 // The .vtu text of the tessellation: n_per_span ≥ 1 quads per element and direction. Point data:
 // `parameters` (ξ, η) and the fields; cell data: `element` (index in surface_elements()).
 std::string nurbs_tessellated_vtu(const geometry::NurbsSurface& s, int n_per_span,
+                                  model::VtkFormat format,
                                   const std::vector<SampledField>& fields = {});
 
 // The .vtu text of the control net. Point data `weight`; cell data `direction` (0: ξ, 1: η).
-std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s);
+std::string nurbs_control_net_vtu(const geometry::NurbsSurface& s, model::VtkFormat format);
 
-// The same written to `file` atomically (temporary file, then rename); std::runtime_error when
+// The same written to `file` atomically (temporary file, then rename); io::OutputError when
 // the file cannot be written.
 void write_nurbs_bezier_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                            const std::vector<SurfaceField>& fields = {});
+                            model::VtkFormat format, const std::vector<SurfaceField>& fields = {});
 void write_nurbs_tessellated_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
-                                 int n_per_span, const std::vector<SampledField>& fields = {});
-void write_nurbs_control_net_vtu(const std::filesystem::path& file,
-                                 const geometry::NurbsSurface& s);
+                                 int n_per_span, model::VtkFormat format,
+                                 const std::vector<SampledField>& fields = {});
+void write_nurbs_control_net_vtu(const std::filesystem::path& file, const geometry::NurbsSurface& s,
+                                 model::VtkFormat format);
 
 }  // namespace isoflex::io

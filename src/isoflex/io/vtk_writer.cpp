@@ -4,17 +4,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
+#include <cstdint>
 #include <iterator>
 #include <numbers>
 #include <set>
 #include <stdexcept>
 #include <system_error>
+#include <type_traits>
 
 #include "isoflex/io/kl_shell_vtk.hpp"
 #include "isoflex/io/output_error.hpp"
 #include "isoflex/io/shell_mesh.hpp"
 #include "isoflex/io/summary_writer.hpp"
+#include "isoflex/io/vtu_data_arrays.hpp"
 
 namespace isoflex::io {
 
@@ -141,75 +143,30 @@ void add_sphere(MeshBuilder& m, const model::Shape& s) {
   }
 }
 
-// Keeps the time precise and the numbers short.
-void append_real(fmt::memory_buffer& out, double v) {
-  if (!std::isfinite(v)) v = 0.0;  // VTK ascii readers reject nan/inf
-  fmt::format_to(std::back_inserter(out), "{:.15g}", v);
-}
-
 // One indented line "x y z" of a three-component array.
-void append_vec3_line(fmt::memory_buffer& out, const Vec3& v) {
-  out.append(std::string_view("          "));
-  append_real(out, v.x());
-  out.push_back(' ');
-  append_real(out, v.y());
-  out.push_back(' ');
-  append_real(out, v.z());
-  out.push_back('\n');
+void vec3_line(VtuDataArrays& out, const Vec3& v) {
+  out.real(v.x());
+  out.real(v.y());
+  out.real(v.z());
+  out.end_line();
 }
 
-// `count` copies of `value` (the filler of the body and beam cells or points in a shell array),
-// a bounded number per line so that the lines stay readable.
-void append_filler(fmt::memory_buffer& out, std::size_t count, std::string_view value) {
+// `count` tuples of `n_components` copies of `value` (the filler of the body and beam cells or
+// points in a shell array), a bounded number per line so that the lines stay readable.
+template <class T>
+void filler(VtuDataArrays& out, std::size_t count, int n_components, T value) {
   constexpr std::size_t kPerLine = 20;
   for (std::size_t done = 0; done < count;) {
-    out.append(std::string_view("          "));
     for (std::size_t k = 0; k < kPerLine && done < count; ++k, ++done) {
-      out.append(value);
-      out.push_back(' ');
+      for (int c = 0; c < n_components; ++c) {
+        if constexpr (std::is_integral_v<T>)
+          out.integer(value);
+        else
+          out.real(value);
+      }
     }
-    out.push_back('\n');
+    out.end_line(true);
   }
-}
-
-// A shell name in an attribute value (names are free text in the model file).
-std::string xml_attribute(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-// A scalar cell array of the shells in write_vtu: filler on the first `n_other` cells (bodies
-// and beams), then value(k) for shell element k = 0 … n_shell − 1, one per line.
-void append_shell_cell_scalar(fmt::memory_buffer& out, std::string_view type, std::string_view name,
-                              std::size_t n_other, std::string_view filler, std::size_t n_shell,
-                              const std::function<void(std::size_t)>& value) {
-  fmt::format_to(std::back_inserter(out),
-                 "        <DataArray type=\"{}\" Name=\"{}\" format=\"ascii\">\n", type, name);
-  append_filler(out, n_other, filler);
-  for (std::size_t k = 0; k < n_shell; ++k) {
-    out.append(std::string_view("          "));
-    value(k);
-    out.push_back('\n');
-  }
-  out.append(std::string_view("        </DataArray>\n"));
 }
 
 }  // namespace
@@ -301,8 +258,8 @@ std::vector<std::string> kl_patch_file_stems(const model::Model& model) {
 }
 
 VtkSeriesWriter::VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model,
-                                 int every, int kl_per_span)
-    : outdir_(outdir), kl_per_span_(kl_per_span), every_(every) {
+                                 int every, model::VtkFormat format, int kl_per_span)
+    : outdir_(outdir), kl_per_span_(kl_per_span), every_(every), format_(format) {
   shapes_.reserve(model.bodies.size());
   for (const auto& b : model.bodies) shapes_.push_back(b.shape);
   for (const auto& b : model.beams) {
@@ -402,94 +359,85 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
     n_cells += m.types.size();
   }
 
-  fmt::memory_buffer out;
-  auto it = std::back_inserter(out);
-  fmt::format_to(it,
-                 "<?xml version=\"1.0\"?>\n"
-                 "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-                 "byte_order=\"LittleEndian\">\n"
-                 "  <UnstructuredGrid>\n"
-                 "    <FieldData>\n"
-                 "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-                 "format=\"ascii\">\n        ");
-  append_real(out, s.t);
-  fmt::format_to(it, "\n      </DataArray>\n");
+  VtuDataArrays out(format_);
+  out.start("0.1");  // ascii: the version these files have always had
+  out.xml(
+      "  <UnstructuredGrid>\n"
+      "    <FieldData>\n");
+  out.open(6, VtkType::float64, "TimeValue", " NumberOfTuples=\"1\"");
+  out.real(s.t);
+  out.close();
   if (shells) {
     for (std::size_t k = 0; k < shell_names_.size(); ++k) {
-      fmt::format_to(it,
-                     "      <DataArray type=\"Int32\" Name=\"shell_id[{}]\" NumberOfTuples=\"1\" "
-                     "format=\"ascii\">\n        {}\n      </DataArray>\n",
-                     xml_attribute(shell_names_[k]), k);
+      out.open(6, VtkType::int32, "shell_id[" + shell_names_[k] + "]", " NumberOfTuples=\"1\"");
+      out.integer(static_cast<std::int64_t>(k));
+      out.close();
     }
   }
-  fmt::format_to(it,
-                 "    </FieldData>\n"
-                 "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
-                 n_points, n_cells);
+  out.xml(
+      "    </FieldData>\n"
+      "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
+      n_points, n_cells);
+  const std::string_view vec3 = " NumberOfComponents=\"3\"";
 
   // Point data
-  fmt::format_to(it,
-                 "      <PointData Vectors=\"velocity\">\n"
-                 "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-                 "format=\"ascii\">\n");
+  out.xml("      <PointData Vectors=\"velocity\">\n");
+  out.open(8, VtkType::float64, "velocity", vec3);
   for (const auto& m : meshes) {
-    for (const Vec3& v : m.velocities) append_vec3_line(out, v);
+    for (const Vec3& v : m.velocities) vec3_line(out, v);
   }
-  fmt::format_to(it, "        </DataArray>\n");
+  out.close();
   if (shells) {
     // The shell points are the last ones, after those of the bodies and beams.
     const std::size_t n_other = n_points - shell.nodes.size();
     for (const auto* values : {&shell.displacements, &shell.directors}) {
-      fmt::format_to(it,
-                     "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" "
-                     "format=\"ascii\">\n",
-                     values == &shell.displacements ? "displacement" : "director");
-      append_filler(out, n_other, "0 0 0");
-      for (const Vec3& v : *values) append_vec3_line(out, v);
-      fmt::format_to(it, "        </DataArray>\n");
+      out.open(8, VtkType::float64, values == &shell.displacements ? "displacement" : "director",
+               vec3);
+      filler(out, n_other, 3, 0.0);
+      for (const Vec3& v : *values) vec3_line(out, v);
+      out.close();
     }
   }
-  fmt::format_to(it, "      </PointData>\n");
+  out.xml("      </PointData>\n");
 
   // Cell data
-  fmt::format_to(it,
-                 "      <CellData Scalars=\"body_id\">\n"
-                 "        <DataArray type=\"Int32\" Name=\"body_id\" format=\"ascii\">\n");
+  out.xml("      <CellData Scalars=\"body_id\">\n");
+  out.open(8, VtkType::int32, "body_id");
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     if (meshes[i].types.empty()) continue;
-    out.append(std::string_view("          "));
-    for (std::size_t c = 0; c < meshes[i].types.size(); ++c) fmt::format_to(it, "{} ", ids[i]);
-    out.push_back('\n');
+    for (std::size_t c = 0; c < meshes[i].types.size(); ++c) out.integer(ids[i]);
+    out.end_line(true);
   }
-  fmt::format_to(it,
-                 "        </DataArray>\n"
-                 "        <DataArray type=\"Int32\" Name=\"part\" format=\"ascii\">\n");
+  out.close();
+  out.open(8, VtkType::int32, "part");
   for (const auto& m : meshes) {
     if (m.parts.empty()) continue;
-    out.append(std::string_view("          "));
-    for (const int p : m.parts) fmt::format_to(it, "{} ", p);
-    out.push_back('\n');
+    for (const int p : m.parts) out.integer(p);
+    out.end_line(true);
   }
-  fmt::format_to(it, "        </DataArray>\n");
+  out.close();
   for (const int which : {0, 1}) {
-    fmt::format_to(it,
-                   "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" "
-                   "format=\"ascii\">\n",
-                   which == 0 ? "n" : "m");
+    out.open(8, VtkType::float64, which == 0 ? "n" : "m", vec3);
     for (std::size_t i = 0; i < meshes.size(); ++i) {
       const Vec3& v = which == 0 ? resultants[i].first : resultants[i].second;
-      for (std::size_t c = 0; c < meshes[i].types.size(); ++c) append_vec3_line(out, v);
+      for (std::size_t c = 0; c < meshes[i].types.size(); ++c) vec3_line(out, v);
     }
-    fmt::format_to(it, "        </DataArray>\n");
+    out.close();
   }
   if (shells) {
+    // Filler on the cells of bodies and beams, then one value per shell element and line.
     const auto& els = s.shell_elements;
     const std::size_t n_other = n_cells - els.size();
-    append_shell_cell_scalar(out, "Int32", "shell_id", n_other, "-1", els.size(),
-                             [&](std::size_t k) { fmt::format_to(it, "{}", shell_ids[k]); });
+    out.open(8, VtkType::int32, "shell_id");
+    filler(out, n_other, 1, -1);
+    for (const int id : shell_ids) {
+      out.integer(id);
+      out.end_line();
+    }
+    out.close();
     // Symmetric parts of the off-diagonal components (the element's tensors are symmetric).
     using E = integrate::ShellElementValue;
-    const std::pair<const char*, std::function<double(const E&)>> scalars[] = {
+    const std::pair<const char*, double (*)(const E&)> scalars[] = {
         {"n11", [](const E& e) { return e.n(0, 0); }},
         {"n22", [](const E& e) { return e.n(1, 1); }},
         {"n12", [](const E& e) { return 0.5 * (e.n(0, 1) + e.n(1, 0)); }},
@@ -501,76 +449,69 @@ void VtkSeriesWriter::write_vtu(const integrate::Snapshot& s) {
         {"n_vm", [](const E& e) { return von_mises(e.n); }},
         {"m_vm", [](const E& e) { return von_mises(e.m); }},
     };
-    // Not a structured binding: clang 14 (the preset fuzz) cannot capture one in a lambda.
-    for (const auto& scalar : scalars) {
-      const auto& value = scalar.second;
-      append_shell_cell_scalar(out, "Float64", scalar.first, n_other, "0", els.size(),
-                               [&](std::size_t k) { append_real(out, value(els[k])); });
+    for (const auto& [name, value] : scalars) {
+      out.open(8, VtkType::float64, name);
+      filler(out, n_other, 1, 0.0);
+      for (const E& e : els) {
+        out.real(value(e));
+        out.end_line();
+      }
+      out.close();
     }
   }
-  fmt::format_to(it, "      </CellData>\n");
+  out.xml("      </CellData>\n");
 
   // Points
-  fmt::format_to(it,
-                 "      <Points>\n"
-                 "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
-                 "format=\"ascii\">\n");
+  out.xml("      <Points>\n");
+  out.open(8, VtkType::float64, "Points", vec3);
   for (const auto& m : meshes) {
-    for (const Vec3& x : m.points) append_vec3_line(out, x);
+    for (const Vec3& x : m.points) vec3_line(out, x);
   }
-  fmt::format_to(it, "        </DataArray>\n      </Points>\n");
+  out.close();
+  out.xml("      </Points>\n");
 
   // Cells: global point ids and running end offsets.
-  fmt::format_to(it,
-                 "      <Cells>\n"
-                 "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  out.xml("      <Cells>\n");
+  out.open(8, VtkType::int64, "connectivity");
   {
     std::size_t base = 0;
     for (const auto& m : meshes) {
       std::size_t begin = 0;
       for (const int end : m.offsets) {
-        out.append(std::string_view("          "));
-        for (std::size_t k = begin; k < static_cast<std::size_t>(end); ++k) {
-          fmt::format_to(it, "{} ", base + static_cast<std::size_t>(m.connectivity[k]));
-        }
-        out.push_back('\n');
+        for (std::size_t k = begin; k < static_cast<std::size_t>(end); ++k)
+          out.integer(static_cast<std::int64_t>(base) + m.connectivity[k]);
+        out.end_line(true);
         begin = static_cast<std::size_t>(end);
       }
       base += m.points.size();
     }
   }
-  fmt::format_to(it,
-                 "        </DataArray>\n"
-                 "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  out.close();
+  out.open(8, VtkType::int64, "offsets");
   {
     std::size_t base = 0;
     for (const auto& m : meshes) {
       if (m.offsets.empty()) continue;
-      out.append(std::string_view("          "));
-      for (const int end : m.offsets)
-        fmt::format_to(it, "{} ", base + static_cast<std::size_t>(end));
-      out.push_back('\n');
+      for (const int end : m.offsets) out.integer(static_cast<std::int64_t>(base) + end);
+      out.end_line(true);
       base += m.connectivity.size();
     }
   }
-  fmt::format_to(it,
-                 "        </DataArray>\n"
-                 "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  out.close();
+  out.open(8, VtkType::uint8, "types");
   for (const auto& m : meshes) {
     if (m.types.empty()) continue;
-    out.append(std::string_view("          "));
-    for (const unsigned char t : m.types) fmt::format_to(it, "{} ", static_cast<int>(t));
-    out.push_back('\n');
+    for (const unsigned char t : m.types) out.integer(t);
+    out.end_line(true);
   }
-  fmt::format_to(it,
-                 "        </DataArray>\n"
-                 "      </Cells>\n"
-                 "    </Piece>\n"
-                 "  </UnstructuredGrid>\n"
-                 "</VTKFile>\n");
+  out.close();
+  out.xml(
+      "      </Cells>\n"
+      "    </Piece>\n"
+      "  </UnstructuredGrid>\n");
 
   const std::string name = fmt::format("vtk/step_{:06d}.vtu", s.step);
-  write_file_atomic(outdir_ / name, std::string_view(out.data(), out.size()));
+  write_file_atomic(outdir_ / name, out.finish());
   files_.push_back(name);
   last_written_step_ = s.step;
   add_pvd_entry(s.t, 0, name);
@@ -599,7 +540,7 @@ void VtkSeriesWriter::write_kl_patches(const integrate::Snapshot& s) {
     const std::string name = fmt::format(
         "vtk/{}_{:06d}.vtu", kl_stems_[static_cast<std::size_t>(found->second)], s.step);
     write_file_atomic(outdir_ / name,
-                      kl_shell_vtu(*value.patch, value.kinematics, value.x, kl_per_span_));
+                      kl_shell_vtu(*value.patch, value.kinematics, value.x, kl_per_span_, format_));
     files_.push_back(name);
     add_pvd_entry(s.t, 1 + found->second, name);
   }

@@ -1,8 +1,8 @@
 #pragma once
 // A ParaView time series of the bodies, beams and shells: outdir/vtk/step_NNNNNN.vtu (VTK XML
-// UnstructuredGrid, ascii) for every `every`-th snapshot plus the last one, and outdir/results.pvd
-// (a VTK Collection of them, rewritten atomically whenever a file is added, so an interrupted run
-// leaves a valid series).
+// UnstructuredGrid, its arrays binary or ascii: io/vtu_data_arrays.hpp) for every `every`-th
+// snapshot plus the last one, and outdir/results.pvd (a VTK Collection of them, rewritten
+// atomically whenever a file is added, so an interrupted run leaves a valid series).
 //
 // Each .vtu holds, per body, its drawing shape as surface cells in the current pose
 // x = φ + R·X (R = [d₁ d₂ d₃]) and the director triad as three line cells from φ.
@@ -100,10 +100,10 @@ std::vector<std::string> kl_patch_file_stems(const model::Model& model);
 class VtkSeriesWriter : public integrate::Observer {
  public:
   // Creates outdir/vtk; the file names of the model's Kirchhoff–Love patches (their geometry
-  // comes with each snapshot). every ≤ 0 writes nothing at all.
+  // comes with each snapshot). every ≤ 0 writes nothing at all. `format`: of all the .vtu files.
   // kl_per_span: quads per knot span and direction of the patch files.
   VtkSeriesWriter(const std::filesystem::path& outdir, const model::Model& model, int every,
-                  int kl_per_span = kKLShellQuadsPerSpan);
+                  model::VtkFormat format, int kl_per_span = kKLShellQuadsPerSpan);
   // Writes a collection that is still behind (a run that ended without on_finish).
   ~VtkSeriesWriter() override;
   VtkSeriesWriter(const VtkSeriesWriter&) = delete;
@@ -137,6 +137,7 @@ class VtkSeriesWriter : public integrate::Observer {
   std::vector<Vec3> reference_positions_;
   bool have_reference_ = false;
   int every_;
+  model::VtkFormat format_;
   std::vector<std::string> files_;
   std::string pvd_entries_;  // the <DataSet .../> lines so far
   bool pvd_dirty_ = false;

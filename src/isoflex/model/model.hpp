@@ -504,8 +504,12 @@ struct Solver {
   std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
 };
 
+// How the .vtu files hold their arrays: raw bytes in an appended section, or text.
+enum class VtkFormat { binary, ascii };
+
 struct Output {
   int vtk_every = 1;  // write a .vtu every k steps (0 = none)
+  VtkFormat vtk_format = VtkFormat::binary;
   bool history = true;
   bool reactions = true;  // reactions.csv (with history), the joint reactions
 };
