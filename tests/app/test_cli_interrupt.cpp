@@ -1,7 +1,7 @@
 // SIGINT and SIGTERM end `isoflex run` after the step in progress: summary.json says
 // "interrupted", results.pvd lists exactly the .vtu files written, history.csv has complete rows,
-// no temporary file is left, and the exit code is 128 + the signal (130, 143). Dynamic runs (time
-// steps) and static ones (load steps).
+// results.h5 ends with the state of the last step done, no temporary file is left, and the exit
+// code is 128 + the signal (130, 143). Dynamic runs (time steps) and static ones (load steps).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "isoflex/io/hdf5_results.hpp"
 #include "support/child_process.hpp"
 #include "support/examples.hpp"
 #include "support/files.hpp"
@@ -96,6 +97,30 @@ TEST(CliInterrupt, SigintEndsATimeStepRunWithCode130) {
                                  ("isoflex_cli_sigint_" + std::to_string(::getpid())));
   std::ofstream(d.path() / "m.yaml") << kLongPendulum;
   interrupt_run({"run", (d.path() / "m.yaml").string()}, d.path() / "out", SIGINT, 130);
+}
+
+// results.h5 with every 7th state: closed as at the end of a run, with the state of the last
+// step done, whatever its number, the one to restart from.
+TEST(CliInterrupt, SigintLeavesAResultsFileEndingWithTheLastStep) {
+  const isoflex::test::TempDir d(fs::temp_directory_path() /
+                                 ("isoflex_cli_sigint_hdf5_" + std::to_string(::getpid())));
+  std::ofstream(d.path() / "m.yaml") << isoflex::test::pendulum_yaml(
+      "{dt: 0.001, t_end: 1000}\noutput: {vtk_every: 10, hdf5: true, hdf5_state_every: 7}",
+      "probes:\n  - {name: bob, body: bob}\n");
+  const fs::path out = d.path() / "out";
+  interrupt_run({"run", (d.path() / "m.yaml").string()}, out, SIGINT, 130);
+  const std::string history = read_text(out / "history.csv");
+  const int steps = isoflex::test::csv_rows(out / "history.csv") - 1;
+  const std::vector<int> saved = isoflex::io::saved_steps(out / "results.h5");
+  ASSERT_GE(saved.size(), 2u);
+  EXPECT_EQ(saved.back(), steps);
+  EXPECT_EQ(saved[1], 7);
+  // Its t is that of the last history row.
+  const std::string last_row = history.substr(history.rfind('\n', history.size() - 2) + 1);
+  char t[32];
+  std::snprintf(t, sizeof t, "%.17g,",
+                isoflex::io::read_saved_state(out / "results.h5", steps).state.t);
+  EXPECT_EQ(last_row.rfind(t, 0), 0u) << last_row;
 }
 
 // A static run stops between load steps (10 000 of them here).

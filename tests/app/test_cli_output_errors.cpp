@@ -136,3 +136,33 @@ TEST(CliOutputErrors, AReadOnlyOutputFolderIsReported) {
   EXPECT_TRUE(fs::is_empty(d / "out"));
   fs::remove_all(d);
 }
+
+// results.h5 (output.hdf5) fails like the other outputs: a directory in its place, a disk that
+// fills up (ulimit -f; SIGXFSZ ignored so that the write fails with EFBIG) end the run with exit
+// code 4 and one line naming the file and the cause (and no crash at exit: HDF5 closing the file
+// that failed again).
+TEST(CliOutputErrors, AResultsFileThatCannotBeWrittenEndsTheRunWithCode4) {
+  const fs::path d = temp_dir("output_error");
+  std::ofstream(d / "m.yaml") << isoflex::test::pendulum_yaml("{dt: 0.001, t_end: 2}",
+                                                              "output: {hdf5: true}\n");
+  fs::create_directories(d / "dir/results.h5");
+  const auto r =
+      isoflex::test::run_isoflex("run " + (d / "m.yaml").string() + " -o " + (d / "dir").string());
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(
+      r.out.find("error: cannot write " + (d / "dir/results.h5").string() + ": Is a directory"),
+      std::string::npos)
+      << r.out;
+
+  const auto full = isoflex::test::run_shell(
+      "sh -c \"trap '' XFSZ; ulimit -f 1000; exec " + std::string(ISOFLEX_BINARY) + " run " +
+      (d / "m.yaml").string() + " --set output.vtk_every=0 -o " + (d / "full").string() + "\"");
+  EXPECT_EQ(full.code, 4) << full.out;
+  EXPECT_NE(
+      full.out.find("error: cannot write " + (d / "full/results.h5").string() + ": File too large"),
+      std::string::npos)
+      << full.out;
+  EXPECT_NE(read_text(d / "full/summary.json").find("\"status\": \"output_error\""),
+            std::string::npos);
+  fs::remove_all(d);
+}

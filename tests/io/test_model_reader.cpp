@@ -216,6 +216,8 @@ TEST(ModelReader, DefaultsOfAMinimalModel) {
   EXPECT_EQ(m.output.vtk_every, defaults.output.vtk_every);
   EXPECT_EQ(m.output.history, defaults.output.history);
   EXPECT_EQ(m.output.vtk_format, model::VtkFormat::binary);
+  EXPECT_FALSE(m.output.hdf5);
+  EXPECT_EQ(m.output.hdf5_state_every, 1);
   ASSERT_EQ(m.bodies.size(), 1u);
   EXPECT_EQ(m.bodies[0].shape.kind, model::ShapeKind::none);
   EXPECT_TRUE(m.joints.empty() && m.loads.empty() && m.probes.empty());
@@ -563,6 +565,14 @@ TEST(ModelReader, SolverAndOutputValues) {
             "m.yaml:7: output.vtk_every: must be >= 0, got -1");
   EXPECT_EQ(error_of(with_bodies({"output:", "  history: maybe"})),
             "m.yaml:7: output.history: expected true or false");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  hdf5: 1.5"})),
+            "m.yaml:7: output.hdf5: expected true or false");
+  EXPECT_EQ(error_of(with_bodies({"output:", "  hdf5_state_every: 0"})),
+            "m.yaml:7: output.hdf5_state_every: must be >= 1, got 0");
+  const model::Model m =
+      read_model_string(with_bodies({"output: {hdf5: true, hdf5_state_every: 10}"}), "m.yaml");
+  EXPECT_TRUE(m.output.hdf5);
+  EXPECT_EQ(m.output.hdf5_state_every, 10);
 }
 
 // How the .vtu files hold their arrays (io/vtu_data_arrays.hpp).

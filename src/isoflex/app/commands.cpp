@@ -22,6 +22,7 @@
 #include "isoflex/integrate/energy_momentum.hpp"
 #include "isoflex/integrate/initial_equilibrium.hpp"
 #include "isoflex/integrate/static_equilibrium.hpp"
+#include "isoflex/io/hdf5_results.hpp"
 #include "isoflex/io/model_error.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/io/output_error.hpp"
@@ -269,6 +270,12 @@ std::string newton_failure_hint(const model::Solver& s) {
       "; to get further: a smaller time step (solver.dt or --dt), {}, or more Newton iterations "
       "(solver.max_iterations, now {})",
       halvings, s.max_iterations);
+}
+
+// What `summary.json` and results.h5 call the time stepping of a dynamic run.
+std::string dynamic_formulation(const model::Solver& s) {
+  return s.integrator == model::Integrator::energy_momentum ? model::to_string(s.formulation)
+                                                            : model::to_string(s.integrator);
 }
 
 }  // namespace
@@ -531,10 +538,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   io::RunSummary sum;
   sum.model = o.model_file;
   for (const auto& s : o.overrides) sum.set.push_back(s.key + "=" + s.value);
-  sum.formulation = statics ? "static"
-                    : m.solver.integrator == model::Integrator::energy_momentum
-                        ? model::to_string(m.solver.formulation)
-                        : model::to_string(m.solver.integrator);
+  sum.formulation = statics ? "static" : dynamic_formulation(m.solver);
   sum.n_coordinates = sys.n();
   sum.n_constraints = sys.m_selected() +
                       static_cast<int>(sys.linear_constraints().eliminated.size()) +
@@ -609,7 +613,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                    std::abs(snap.total_energy + snap.dissipated_energy - snap.external_work -
                             snap.driver_work - sum.energy_initial) /
                        std::max(std::abs(sum.energy_initial), 1e-300));
-    outputs->snapshot(snap);
+    outputs->snapshot(snap, &state);
     throw_if_interrupted();
   };
   const auto record = [&](const integrate::StepStats& st) {
@@ -636,8 +640,13 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                  eq.iterations);
     }
     doing = "while opening the output files";
-    outputs.emplace(outdir, m, err);
-    outputs->snapshot(snap);
+    io::ResultsFileRun results_file;
+    results_file.formulation = sum.formulation;
+    results_file.n = sys.n();
+    results_file.m = sys.m_selected();
+    results_file.energy_initial = sum.energy_initial;
+    outputs.emplace(outdir, m, err, &results_file);
+    outputs->snapshot(snap, &state);
     if (statics) {
       doing = "while setting up the static solver";
       integrate::StaticEquilibrium equilibrium(sys, m.solver);

@@ -1,6 +1,7 @@
 #include "isoflex/app/run_outputs.hpp"
 
 #include "isoflex/app/progress.hpp"
+#include "isoflex/io/hdf5_results.hpp"
 #include "isoflex/io/history_writer.hpp"
 #include "isoflex/io/output_error.hpp"
 #include "isoflex/io/vtk_writer.hpp"
@@ -30,7 +31,7 @@ void remove_earlier_vtk_series(const std::filesystem::path& outdir) {
 }  // namespace
 
 RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& m,
-                       std::FILE* progress) {
+                       std::FILE* progress, const io::ResultsFileRun* results_file) {
   remove_earlier_vtk_series(outdir);
   if (m.output.history) {  // history.csv, probes.csv, resultants.csv, forces.csv, reactions.csv
     observers_.push_back(std::make_unique<io::HistoryWriter>(outdir, m));
@@ -42,6 +43,12 @@ RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& 
   if (m.output.vtk_every > 0)
     observers_.push_back(
         std::make_unique<io::VtkSeriesWriter>(outdir, m, m.output.vtk_every, m.output.vtk_format));
+  if (m.output.hdf5) {
+    auto w = std::make_unique<io::Hdf5ResultsWriter>(
+        outdir, m, results_file ? *results_file : io::ResultsFileRun{});
+    hdf5_ = w.get();
+    observers_.push_back(std::move(w));
+  }
   const bool by_path = m.solver.analysis == model::Analysis::statics &&
                        m.solver.path.method == model::PathMethod::displacement;
   observers_.push_back(
@@ -49,7 +56,8 @@ RunOutputs::RunOutputs(const std::filesystem::path& outdir, const model::Model& 
               : std::make_unique<ProgressBar>(m.solver.t_end, progress));
 }
 
-void RunOutputs::snapshot(const integrate::Snapshot& s) {
+void RunOutputs::snapshot(const integrate::Snapshot& s, const integrate::State* state) {
+  if (hdf5_) hdf5_->set_state(state);
   for (auto& ob : observers_) ob->on_snapshot(s);
 }
 

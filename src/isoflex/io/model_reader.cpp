@@ -363,7 +363,8 @@ class Reader : YamlFields {
   void read_output(const YAML::Node& n, model::Output& o) const {
     if (n.IsNull()) return;
     expect_map(n, "output");
-    check_keys(n, "output", {"vtk_every", "vtk_format", "history", "reactions"});
+    check_keys(n, "output",
+               {"vtk_every", "vtk_format", "history", "reactions", "hdf5", "hdf5_state_every"});
     if (const auto v = n["vtk_every"]) o.vtk_every = integer(v, "output.vtk_every", 0);
     if (const auto v = n["vtk_format"]) {
       const std::string name = string(v, "output.vtk_format");
@@ -374,6 +375,9 @@ class Reader : YamlFields {
     }
     if (const auto v = n["history"]) o.history = boolean(v, "output.history");
     if (const auto v = n["reactions"]) o.reactions = boolean(v, "output.reactions");
+    if (const auto v = n["hdf5"]) o.hdf5 = boolean(v, "output.hdf5");
+    if (const auto v = n["hdf5_state_every"])
+      o.hdf5_state_every = integer(v, "output.hdf5_state_every", 1);
   }
 
   Body read_body(const YAML::Node& n, const std::string& p) {

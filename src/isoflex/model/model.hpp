@@ -511,7 +511,9 @@ struct Output {
   int vtk_every = 1;  // write a .vtu every k steps (0 = none)
   VtkFormat vtk_format = VtkFormat::binary;
   bool history = true;
-  bool reactions = true;  // reactions.csv (with history), the joint reactions
+  bool reactions = true;     // reactions.csv (with history), the joint reactions
+  bool hdf5 = false;         // results.h5 (io/hdf5_results.hpp)
+  int hdf5_state_every = 1;  // results.h5 holds the state of every k-th step (and the last)
 };
 
 struct Model {
