@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """results.h5 (output.hdf5) as h5py reads it: the layout of io/hdf5_results.hpp, the same numbers
 as history.csv, probes.csv and resultants.csv (17 significant digits read back are the doubles),
-and the states at every k-th step and the last. Run by ctest as io.hdf5_h5py with ISOFLEX_BINARY and ISOFLEX_SOURCE_DIR set."""
+the states at every k-th step and the last, and a file that is HDF5 but not isoflex's refused by
+--restart. Run by ctest as io.hdf5_h5py with ISOFLEX_BINARY and ISOFLEX_SOURCE_DIR set."""
 import csv
 import json
 import os
@@ -115,6 +116,35 @@ class ResultsFile(unittest.TestCase):
         self.assertEqual(self.file["steps"]["000000030"]["a"].shape, (0,))
         self.assertEqual(self.file["steps"]["000000000"]["last_unknowns"].shape, (0,))
         self.assertEqual(self.file["steps"]["000000030"]["last_unknowns"].shape, (214,))
+
+    def test_a_restarted_file_says_where_it_started(self):
+        out = os.path.join(self.dir, "restarted")
+        code, text = run("run", SLIDER_CRANK, "-o", out, "--set", "solver.t_end=0.3",
+                         "--set", "output.vtk_every=0", "--set", "output.hdf5=true",
+                         "--restart", os.path.join(self.out, "results.h5"), "--from-step", "12")
+        self.assertEqual(code, 0, text)
+        with h5py.File(os.path.join(out, "results.h5"), "r") as f:
+            self.assertEqual(f.attrs["restart_file"], os.path.join(self.out, "results.h5"))
+            self.assertEqual(f.attrs["restart_from_step"], 12)
+            self.assertEqual(f.attrs["energy_initial"], self.file.attrs["energy_initial"])
+            self.assertTrue(np.array_equal(f["history"]["t"][:], self.file["history"]["t"][12:]))
+            self.assertEqual(sorted(f["steps"])[0], "000000012")
+            for v in STATE_VECTORS:
+                self.assertTrue(np.array_equal(f["steps"]["000000030"][v][:],
+                                               self.file["steps"]["000000030"][v][:]), v)
+
+
+class NotAResultsFile(unittest.TestCase):
+    def test_restart_refuses_another_hdf5_file(self):
+        with tempfile.TemporaryDirectory() as d:
+            other = os.path.join(d, "other.h5")
+            with h5py.File(other, "w") as f:
+                f.create_dataset("steps/000000000/q", data=np.zeros(468))
+            code, text = run("run", SLIDER_CRANK, "-o", os.path.join(d, "out"), "--restart", other,
+                             "--from-step", "0")
+            self.assertEqual(code, 2, text)
+            self.assertIn(f"error: --restart: {other}: not an isoflex results file", text)
+            self.assertFalse(os.path.exists(os.path.join(d, "out")))
 
 
 if __name__ == "__main__":

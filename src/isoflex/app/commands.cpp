@@ -278,6 +278,94 @@ std::string dynamic_formulation(const model::Solver& s) {
                                                             : model::to_string(s.integrator);
 }
 
+// The state of a restarted run (--restart FILE --from-step N), checked against the compiled model
+// before anything is written; prints one error line and returns nullopt when it cannot serve.
+std::optional<io::SavedState> restart_state(const RunOptions& o, const model::Model& m,
+                                            const system::System& sys,
+                                            const std::filesystem::path& outdir, std::FILE* err,
+                                            std::FILE* out) {
+  const std::string& file = o.restart_file;
+  if (m.solver.analysis == model::Analysis::statics) {
+    fmt::print(err, "error: --restart: continues a dynamic run; this is a static analysis\n");
+    return std::nullopt;
+  }
+  if (m.solver.cosimulation) {
+    fmt::print(err,
+               "error: --restart: a co-simulation cannot be restarted (results.h5 holds the state "
+               "of its multibody part only)\n");
+    return std::nullopt;
+  }
+  // Writing results.h5 would truncate the file being restarted from: refused rather than read
+  // first, since the new file would lose every step before N.
+  std::error_code ec;
+  if (m.output.hdf5 &&
+      std::filesystem::equivalent(file, outdir / io::Hdf5ResultsWriter::kFileName, ec) && !ec) {
+    fmt::print(err,
+               "error: --restart {}: this run would write its results.h5 over it; give another "
+               "output folder (-o)\n",
+               file);
+    return std::nullopt;
+  }
+  io::SavedState saved;
+  try {
+    saved = io::read_saved_state(file, o.restart_step);
+  } catch (const io::RestartError& e) {
+    fmt::print(err, "error: --restart: {}\n", e.what());
+    return std::nullopt;
+  }
+  if (saved.analysis != "dynamic") {
+    fmt::print(err, "error: --restart: {}: holds a {} run; only dynamic runs can be continued\n",
+               file, saved.analysis);
+    return std::nullopt;
+  }
+  // Sizes: a state of another model (or the same file after an edit that changed its nodes or
+  // constraints) is refused with the dataset and both sizes.
+  const std::string where = fmt::format("{}: /steps/{:09d}", file, o.restart_step);
+  const int n = sys.n(), rows = sys.m_selected();
+  const integrate::State& s = saved.state;
+  const auto mismatch = [&](const char* name, Eigen::Index size, const std::string& expected) {
+    fmt::print(err,
+               "error: --restart: {}/{}: {} entries, the model {} needs {} (n = {} coordinates, "
+               "m = {} constraint rows); the file was written for {}\n",
+               where, name, size, o.model_file, expected, n, rows, saved.model_file);
+    return std::nullopt;
+  };
+  if (s.q.size() != n) return mismatch("q", s.q.size(), std::to_string(n));
+  if (s.v.size() != n) return mismatch("v", s.v.size(), std::to_string(n));
+  for (const auto& [name, x] : {std::pair{"a", &s.a}, std::pair{"aux", &s.aux},
+                                std::pair{"q_prev", &s.q_prev}, std::pair{"v_prev", &s.v_prev}})
+    if (x->size() != 0 && x->size() != n)
+      return mismatch(name, x->size(), fmt::format("0 or {}", n));
+  if (s.lambda.size() != 0 && s.lambda.size() != rows)
+    return mismatch("lambda", s.lambda.size(), fmt::format("0 or {}", rows));
+  if (std::lround((m.solver.t_end - s.t) / m.solver.dt) < 1) {
+    fmt::print(err,
+               "error: --restart: step {} of {} is at t = {:.17g}, t_end is {:.17g}: no step "
+               "left\n",
+               o.restart_step, file, s.t, m.solver.t_end);
+    return std::nullopt;
+  }
+  // The memory of another scheme's last step means something else (the energy–momentum
+  // unknowns of another formulation, no q̈ₙ): this run starts its own from qₙ, vₙ, as at t = 0.
+  const std::string formulation = dynamic_formulation(m.solver);
+  if (saved.formulation != formulation) {
+    fmt::print(err,
+               "note: --restart: {} was written by {}, this run uses {}: it continues from q and "
+               "v of step {} without the last step's memory of that scheme\n",
+               file, saved.formulation, formulation, o.restart_step);
+    integrate::State& t = saved.state;
+    t.last_unknowns.resize(0);
+    t.last_dt = 0.0;
+    t.last_start = 0;
+    t.a.resize(0);
+    t.aux.resize(0);
+    t.q_prev.resize(0);
+    t.v_prev.resize(0);
+  }
+  fmt::print(out, "restart: step {} (t = {:.6g}) of {}\n", o.restart_step, s.t, file);
+  return saved;
+}
+
 }  // namespace
 
 std::optional<double> parse_memory_size(const std::string& text) {
@@ -516,6 +604,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (!l) return kExitBadInput;
   model::Model& m = l->model;
   const bool statics = m.solver.analysis == model::Analysis::statics;
+  std::optional<io::SavedState> restart;
+  if (!o.restart_file.empty()) {
+    restart = restart_state(o, m, *l->sys, outdir, err, out);
+    if (!restart) return kExitBadInput;
+  }
   std::error_code ec;
   std::filesystem::create_directories(outdir, ec);
   if (ec) {
@@ -539,6 +632,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.model = o.model_file;
   for (const auto& s : o.overrides) sum.set.push_back(s.key + "=" + s.value);
   sum.formulation = statics ? "static" : dynamic_formulation(m.solver);
+  if (restart) {
+    sum.restart_file = o.restart_file;
+    sum.restart_from_step = o.restart_step;
+  }
   sum.n_coordinates = sys.n();
   sum.n_constraints = sys.m_selected() +
                       static_cast<int>(sys.linear_constraints().eliminated.size()) +
@@ -584,10 +681,20 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
 
   const auto names = body_names(m);
   integrate::State state;
-  state.q = sys.q0();
-  state.v = statics ? VecX::Zero(sys.n()) : sys.v0();
-  auto snap = integrate::snapshot(sys, state, {}, names);
-  sum.energy_initial = snap.total_energy;
+  // A restarted run's first snapshot is the saved step's, its history row included (the step's
+  // Newton figures come from the file); its energy reference stays the energy at t = 0.
+  integrate::StepStats first;
+  if (restart) {
+    state = restart->state;
+    first.iterations = restart->newton_iterations;
+    first.residual = restart->residual;
+  } else {
+    state.q = sys.q0();
+    state.v = statics ? VecX::Zero(sys.n()) : sys.v0();
+  }
+  const int first_step = state.step;
+  auto snap = integrate::snapshot(sys, state, first, names);
+  sum.energy_initial = restart ? restart->energy_initial : snap.total_energy;
   sum.max_constraint_violation = snap.constraint_violation;
   std::optional<RunOutputs> outputs;
   double path = 0.0;  // the path parameter of the last load step (path following)
@@ -599,8 +706,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     // Checked before anything of the step is recorded: the outputs end with the last finite step.
     if (const std::string bad = non_finite_results(next, state); !bad.empty())
       throw integrate::NewtonFailure(fmt::format("{} {} (t = {:.6g}): non-finite results: {}",
-                                                 statics ? "load step" : "step", sum.steps + 1,
-                                                 state.t, bad));
+                                                 statics ? "load step" : "step",
+                                                 first_step + sum.steps + 1, state.t, bad));
     snap = next;
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
@@ -627,7 +734,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   // What the run is doing, for an out-of-memory message ("in load step 3 (t = 0.3)").
   std::string doing = "while opening the output files";
   try {
-    if (!statics && m.solver.initial_equilibrium > 0) {
+    if (!statics && m.solver.initial_equilibrium > 0 && !restart) {
       doing = "while finding the initial equilibrium";
       const integrate::InitialEquilibrium eq = integrate::initial_equilibrium(m);
       state.q = eq.q;
@@ -645,6 +752,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     results_file.n = sys.n();
     results_file.m = sys.m_selected();
     results_file.energy_initial = sum.energy_initial;
+    if (restart) {
+      results_file.restart_file = o.restart_file;
+      results_file.restart_from_step = o.restart_step;
+    }
     outputs.emplace(outdir, m, err, &results_file);
     outputs->snapshot(snap, &state);
     if (statics) {
@@ -697,8 +808,11 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       integ->set_joint_reactions(m.output.history && m.output.reactions &&
                                  !(m.joints.empty() && m.kl_surface_joints.empty()));
       sum.n_unknowns = integ->unknowns();
-      const int steps = static_cast<int>(std::lround(m.solver.t_end / m.solver.dt));
-      for (int i = 0; i < steps; ++i) {
+      // A restarted run: the steps from its state's t to t_end (on the same grid when dt is the
+      // file's, so the step numbers continue).
+      const int steps =
+          first_step + static_cast<int>(std::lround((m.solver.t_end - state.t) / m.solver.dt));
+      for (int i = first_step; i < steps; ++i) {
         doing = fmt::format("in step {} (t = {:.6g}; assembling and factorizing {} unknowns)",
                             i + 1, state.t + m.solver.dt, sum.n_unknowns);
         record(integ->step(state));

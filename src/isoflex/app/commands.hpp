@@ -28,6 +28,10 @@ struct RunOptions {
   std::optional<double> max_memory;
   // --set KEY=VALUE: model values over the file's (io/model_overrides.hpp), before --dt etc.
   std::vector<io::ModelOverride> overrides;
+  // --restart FILE --from-step N: the run starts from the state of step N saved in FILE (a
+  // results.h5, io/hdf5_results.hpp) and continues to t_end; empty: from t = 0.
+  std::string restart_file;
+  int restart_step = -1;
 };
 
 struct CheckOptions {

@@ -49,6 +49,15 @@ int main(int argc, char** argv) {
       "KEY=VALUE: a model value over the file's, repeatable; KEY a path like solver.dt, "
       "bodies[0].mass or bodies[crank].mass, VALUE YAML (2, [0, 0, 1], \"sin(t)\")";
   r->add_option("--set", run_set, set_help)->allow_extra_args(false);
+  auto* restart = r->add_option("--restart", run.restart_file,
+                                "a results.h5 (output.hdf5: true) to continue a run from, at the "
+                                "saved step --from-step");
+  auto* from_step = r->add_option("--from-step", run.restart_step,
+                                  "the step of --restart's file to continue from")
+                        ->check(CLI::NonNegativeNumber);
+  restart->needs(from_step);
+  from_step->needs(restart);
+  restart->excludes(r->get_option("--static"));
 
   std::string check_file;
   auto* c = app.add_subcommand("check", "validate a model and print its counts and joint forest");

@@ -17,6 +17,13 @@ class System;
 
 namespace isoflex::integrate {
 
+// Everything an integrator carries from one step to the next: a run restarted from a saved State
+// continues bit for bit (`isoflex run --restart`, io/hdf5_results.hpp; tests/app/
+// test_cli_restart.cpp). The integrators' mutable members are no memory of the run: workspace,
+// counters, and the symbolic analyses of the Newton matrices (the fill-reducing orderings kept by
+// solve::FixedPatternLU, FixedPatternLDLT and NormalEquations while the pattern is unchanged),
+// which depend on the pattern alone — UMFPACK 5.7's umfpack_*_symbolic reads the values only for
+// its statistics (umfpack_symbolic.h) — so a new integrator makes the same ones.
 struct State {
   int step = 0;
   double t = 0.0;

@@ -50,6 +50,9 @@ struct RunSummary {
   // the sparse LU.
   std::optional<int> krylov_iterations_total;
   std::optional<int> saddle_point_fallbacks;
+  // A restarted run (isoflex run --restart FILE --from-step N): FILE and N.
+  std::optional<std::string> restart_file;
+  int restart_from_step = 0;
   std::vector<integrate::ProbeValue> probes;
   // "completed"; "failed" (Newton), "output_error" (a file could not be written), "interrupted"
   // (SIGINT, SIGTERM): README "Exit codes"
