@@ -200,12 +200,16 @@ class Writer {
     attribute(object, name, type.get(), type.get(), &text);
   }
 
-  // A 1-D dataset of the doubles of x (length 0 for an empty x).
+  // A 1-D dataset of the doubles of x (length 0 for an empty x). Up to 16 KB in the dataset's
+  // header (compact layout: no block of its own to allocate; 10 % of the run time of the
+  // slider-crank's states, n = 468), larger ones contiguous (a header holds at most 64 KB).
   void vector(hid_t group, const char* name, const VecX& x) const {
     const hsize_t size = static_cast<hsize_t>(x.size());
     const Handle space(check(H5Screate_simple(1, &size, nullptr)), H5Sclose);
+    const Handle dcpl(check(H5Pcreate(H5P_DATASET_CREATE)), H5Pclose);
+    if (size <= 2048) check_status(H5Pset_layout(dcpl.get(), H5D_COMPACT));
     const Handle d(check(H5Dcreate2(group, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                                    H5P_DEFAULT, H5P_DEFAULT)),
+                                    dcpl.get(), H5P_DEFAULT)),
                    H5Dclose);
     if (size > 0)
       check_status(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x.data()));
