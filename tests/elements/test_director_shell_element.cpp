@@ -642,3 +642,54 @@ TEST(DirectorShellElement, RejectsBadInput) {
   for (const int a : {0, 3, 2, 1}) cw.segment<6>(6 * (a == 0 ? 0 : 4 - a)) = q0.segment<6>(6 * a);
   EXPECT_THROW(DirectorShellElement(nodes, cw, ok, g0), std::invalid_argument);
 }
+
+// Numerical dissipation (docs/theory/schemes.md §10): f_d = B(q_{n+½})ᵀ χ C (ΔEₙ₊₁ − r ΔEₙ).
+TEST(DirectorShellElement, StrainDissipationDerivativeMatchesFiniteDifferences) {
+  Fixture f;
+  double worst = 0.0;
+  for (const DirectorShellElement* e : {&f.ans, &f.plain}) {
+    for (int trial = 0; trial < 4; ++trial) {
+      const VecX qp = f.deformed(trial + 2), qn = f.deformed(trial), qn1 = f.deformed(trial + 1);
+      const auto fd = [&](const VecX& x) -> VecX {
+        return e->strain_dissipation_force_in_pattern(qp, qn, x, 0.05, 0.7, nullptr);
+      };
+      MatX K = MatX::Zero(24, 24);
+      const VecX f0 = e->strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 0.7, K.data());
+      EXPECT_GT(f0.norm(), 0.0);
+      const double err = rel_diff(K, central_jacobian(fd, qn1));
+      EXPECT_LT(err, 1e-8) << trial;
+      worst = std::max(worst, err);
+      // The kernel adds to the values it is given.
+      MatX K2 = MatX::Ones(24, 24);
+      e->strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 0.7, K2.data());
+      EXPECT_LT((K2 - K - MatX::Ones(24, 24)).norm(), 1e-14 * K.norm());
+    }
+  }
+  RecordProperty("worst_dfd_dqn1_fd", sci(worst));
+}
+
+// Momenta: no net force or moment about any point (the force is B(q_{n+½})ᵀ times stresses, as
+// the discrete gradient); objectivity: three configurations that differ by rigid motions have the
+// same strains, so no force; and with r = 0 the work f_d·Δq = χ ΔEᵀ C ΔE ≥ 0.
+TEST(DirectorShellElement, StrainDissipationIsBalancedObjectiveAndDissipative) {
+  Fixture f;
+  DirectorShellElement e({0, 1, 2, 3}, f.q0, test_material(), Vec3::Zero());
+  for (int trial = 0; trial < 10; ++trial) {
+    const VecX qp = f.deformed(trial + 2), qn = f.deformed(trial), qn1 = f.deformed(trial + 1);
+    const VecX fd = e.strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 1.0, nullptr);
+    const VecX qm = 0.5 * (qn + qn1);
+    Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
+    for (int b = 0; b < 8; ++b) {
+      if (b % 2 == 0) force += fd.segment<3>(3 * b);
+      moment += qm.segment<3>(3 * b).cross(fd.segment<3>(3 * b));
+    }
+    EXPECT_LT(force.norm(), 1e-14 * fd.norm()) << trial;
+    EXPECT_LT(moment.norm(), 1e-14 * fd.norm() * qm.norm()) << trial;
+    const VecX work = e.strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 0.0, nullptr);
+    EXPECT_GT(work.dot(qn1 - qn), 0.0) << trial;
+    const VecX moved = e.strain_dissipation_force_in_pattern(
+        qn, rigid_motion(qn, random_rotation(f.g), Vec3(0.3, -1.0, 2.0)),
+        rigid_motion(qn, random_rotation(f.g), Vec3(-0.7, 0.4, 0.1)), 0.05, 1.0, nullptr);
+    EXPECT_LT(moved.norm(), 1e-12 * fd.norm()) << trial;
+  }
+}

@@ -348,9 +348,9 @@ TEST(ModelReader, UnknownKey) {
   EXPECT_EQ(
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
-      "rho_infinity, scaling, dt, t_end, residual_tolerance, increment_tolerance, max_iterations, "
-      "max_subdivisions, linear, initial_equilibrium, path_following, cosimulation, "
-      "saddle_point_solver)");
+      "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
+      "increment_tolerance, max_iterations, max_subdivisions, linear, initial_equilibrium, "
+      "path_following, cosimulation, saddle_point_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -549,6 +549,35 @@ TEST(ModelReader, SolverIntegrator) {
   EXPECT_EQ(
       read_model_string(with_bodies({"solver: {rho_infinity: 0}"}), "m.yaml").solver.rho_infinity,
       0.0);
+}
+
+// The energy–momentum scheme's numerical dissipation (docs/theory/schemes.md §10).
+TEST(ModelReader, SolverNumericalDissipation) {
+  const std::vector<std::string_view> shell = {
+      "shells:",
+      "  - name: plate",
+      "    plate:",
+      "      corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]",
+      "      elements: [1, 1]",
+      "    material: {E: 1.0e6, nu: 0.3, thickness: 0.01, density: 1000}"};
+  std::string text = with_bodies({"solver: {numerical_dissipation: 0.05}"});
+  for (const auto l : shell) text += std::string(l) + '\n';
+  const auto m = read_model_string(text, "m.yaml");
+  EXPECT_EQ(m.solver.numerical_dissipation, 0.05);
+  EXPECT_TRUE(model::has_material_damping(m));  // history.csv gets its dissipated_energy
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.numerical_dissipation,
+            0.0);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.3"})),
+            "m.yaml:7: solver.numerical_dissipation: 0.3 is outside [0, 0.25] (χ of the "
+            "algorithmic stress on the strains' second difference; 0.01–0.1 damps the modes with "
+            "ωΔt ≈ 1–100)");
+  EXPECT_EQ(
+      error_of(with_bodies({"solver:", "  integrator: bdf2", "  numerical_dissipation: 0.1"})),
+      "m.yaml:8: solver.numerical_dissipation: is for the energy–momentum integrator "
+      "(generalized-α has rho_infinity; BDF dissipates by itself)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.1"})),
+            "m.yaml:7: solver.numerical_dissipation: acts on the strains of director shells "
+            "(shells:), and the model has none");
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

@@ -370,6 +370,27 @@ VecX DirectorShellElement::discrete_gradient(const VecX& qnx, const VecX& qn1x,
   return dv;
 }
 
+VecX DirectorShellElement::strain_dissipation_force_in_pattern(const VecX& q_prevx, const VecX& qnx,
+                                                               const VecX& qn1x, double chi,
+                                                               double ratio, double* values) const {
+  const Q qp = as_element_q(q_prevx);
+  const Q qn = as_element_q(qnx);
+  const Q qn1 = as_element_q(qn1x);
+  const Jacobian Bn = strain_jacobian(qn);
+  const Jacobian Bn1 = strain_jacobian(qn1);
+  const Jacobian Bm = 0.5 * (Bn + Bn1);
+  // E + E⁰ = ½ B(q) q: the strain differences without the reference strains.
+  const Strains en = 0.5 * Bn * qn;
+  const Strains d2e = 0.5 * Bn1 * qn1 - en - ratio * (en - 0.5 * strain_jacobian(qp) * qp);
+  const Strains S = chi * stresses(d2e);
+  const Q f = Bm.transpose() * S;
+  if (values) {
+    Eigen::Map<Mat<kCoords, kCoords>> K(values);
+    K += 0.5 * weighted_strain_hessian(S) + chi * material_stiffness(Bm, Bn1);
+  }
+  return f;
+}
+
 VecX DirectorShellElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq,
                                                     double cv, double* values) const {
   const Q q = as_element_q(qx), v = as_element_q(qdotx);

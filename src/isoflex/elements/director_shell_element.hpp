@@ -60,6 +60,11 @@ class DirectorShellElement final : public Element {
   bool viscous() const override { return material_.eta > 0.0; }
   VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                 double* values) const override;
+  // Algorithmic stress χ C (ΔEₙ₊₁ − r ΔEₙ) on every strain of every Gauss point (assumed strains
+  // included); ∂f_d/∂qₙ₊₁ = ½ Σ_k S_d,k H_k + B(q_{n+½})ᵀ χ C B(qₙ₊₁).
+  bool strain_dissipation() const override { return true; }
+  VecX strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn, const VecX& qn1,
+                                           double chi, double ratio, double* values) const override;
   // Strain-energy Hessian (24 × 24) at q (for linear analysis and tests).
   Mat<24, 24> stiffness(const Vec<24>& q) const;
   double reference_area() const { return area_; }

@@ -29,6 +29,11 @@ VecX Element::viscous_force_in_pattern(const VecX& q, const VecX&, double, doubl
   return VecX::Zero(q.size());
 }
 
+VecX Element::strain_dissipation_force_in_pattern(const VecX&, const VecX& qn, const VecX&, double,
+                                                  double, double*) const {
+  return VecX::Zero(qn.size());
+}
+
 SpMat Element::sparse_mass() const {
   return mass().sparseView(0.0, 0.0);
 }

@@ -57,6 +57,17 @@ class Element {
   virtual VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                         double* values) const;
 
+  // --- Numerical dissipation (docs/theory/schemes.md §10) ----------------------------------------
+  // Whether the element's stored energy is a quadratic form of strains E(q) that it can damp by
+  // an algorithmic stress on their second difference. Default: no.
+  virtual bool strain_dissipation() const { return false; }
+  // f_d = B(q_{n+½})ᵀ χ C (ΔEₙ₊₁ − r ΔEₙ), ΔEₙ₊₁ = E(qₙ₊₁) − E(qₙ), ΔEₙ = E(qₙ) − E(qₙ₋₁), r the
+  // ratio of the step lengths; when values is not null, ∂f_d/∂qₙ₊₁ is added to it (pattern
+  // order). Default: zero.
+  virtual VecX strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
+                                                   const VecX& qn1, double chi, double ratio,
+                                                   double* values) const;
+
   // --- History --------------------------------------------------------------------------------
   // A configuration q of a converged step (time step or load step), before the next step starts.
   // An element whose potential depends on more than its configuration keeps that one piece of

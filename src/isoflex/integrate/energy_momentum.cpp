@@ -85,7 +85,8 @@ EnergyMomentumIntegrator::EnergyMomentumIntegrator(const system::System& sys,
       (how == ReducedSolve::bordered || (how == ReducedSolve::automatic && dense_null_space()));
   if (settings.formulation == F::reparametrized && !tree_ && !bordered_ &&
       (how == ReducedSolve::blocks || how == ReducedSolve::automatic) &&
-      ReducedNewtonMatrix::applicable(sys) && !sys.viscous())
+      ReducedNewtonMatrix::applicable(sys) && !sys.viscous() &&
+      !(settings.numerical_dissipation > 0.0 && sys.strain_dissipation()))
     blocks_.emplace(sys);
   if (how == ReducedSolve::blocks && !blocks_)
     throw std::invalid_argument(
@@ -214,6 +215,7 @@ VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, New
   // removes from the energy, exactly (State::dissipated).
   if (sys_.viscous())
     f += sys_.viscous_force(qm, (q1 - s.q) / dt, 0.5, 1.0 / dt, J ? &Kf : nullptr);
+  if (dissipating(s)) f += dissipative_force(s, q1, dt, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
   // 𝖦 = G̃(qₙ, qₙ₊₁), the discrete derivative of the selected rows: G(q_{n+½}) for rows at most
   // quadratic (DNSM-III (9)–(10)).
@@ -480,6 +482,8 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   const VecX dq = q1 - s.q;
   if (sys_.viscous())
     s.dissipated += sys_.viscous_force(0.5 * (s.q + q1), dq / c.dt, 0, 0, nullptr).dot(dq);
+  if (dissipating(s)) s.dissipated += dissipative_force(s, q1, c.dt, nullptr).dot(dq);
+  if (settings_.numerical_dissipation > 0.0) s.q_prev = s.q;
   if (!sys_.loads().empty())
     s.external_work += sys_.external_force(0.5 * (s.q + q1), c.t_mid).dot(dq);
   sys_.accept(q1);
@@ -487,6 +491,18 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   s.q = q1;
   s.t += c.dt;
   return st;
+}
+
+bool EnergyMomentumIntegrator::dissipating(const State& s) const {
+  return settings_.numerical_dissipation > 0.0 && s.q_prev.size() == s.q.size() && s.last_dt > 0.0;
+}
+
+VecX EnergyMomentumIntegrator::dissipative_force(const State& s, const VecX& q1, double dt,
+                                                 SpMat* K) const {
+  // The strains' second difference over steps of other lengths: ΔEₙ₊₁ − (Δt/Δtₙ) ΔEₙ, zero for
+  // strains linear in t.
+  return sys_.strain_dissipation_force(s.q_prev, s.q, q1, settings_.numerical_dissipation,
+                                       dt / s.last_dt, K);
 }
 
 void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
@@ -497,6 +513,7 @@ VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, 
                                                 double t_mid, double* mismatch) const {
   VecX f = sys_.discrete_force(s.q, q1, t_mid, nullptr);
   if (sys_.viscous()) f += sys_.viscous_force(0.5 * (s.q + q1), (q1 - s.q) / dt, 0, 0, nullptr);
+  if (dissipating(s)) f += dissipative_force(s, q1, dt, nullptr);
   const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
   const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - s.v)) + f;
   const SpMat G = sys_.discrete_jacobian(s.q, q1);

@@ -92,6 +92,11 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
     VecX qm, q1, u;
   };
   VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  // Numerical dissipation (model::Solver::numerical_dissipation, docs/theory/schemes.md §10): on
+  // from the second step (it needs qₙ₋₁, kept in State::q_prev); the elements' f_d and its
+  // ∂f_d/∂qₙ₊₁ (K, if not null, += it).
+  bool dissipating(const State& s) const;
+  VecX dissipative_force(const State& s, const VecX& q1, double dt, system::SpMat* K) const;
   VecX correction(const NewtonMatrix& J, const VecX& R) const;
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,

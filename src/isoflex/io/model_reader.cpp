@@ -139,6 +139,9 @@ class Reader : YamlFields {
             s.name,
             BeamInfo{s.source.line, static_cast<int>(surface->surface.points.size()), true, true});
     }
+    if (m.solver.numerical_dissipation > 0.0 && m.shells.empty())
+      fail(root["solver"]["numerical_dissipation"], "solver.numerical_dissipation",
+           "acts on the strains of director shells (shells:), and the model has none");
     if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];
@@ -193,11 +196,11 @@ class Reader : YamlFields {
   void read_solver(const YAML::Node& n, model::Solver& s) const {
     if (n.IsNull()) return;
     expect_map(n, "solver");
-    check_keys(
-        n, "solver",
-        {"analysis", "formulation", "integrator", "rho_infinity", "scaling", "dt", "t_end",
-         "residual_tolerance", "increment_tolerance", "max_iterations", "max_subdivisions",
-         "linear", "initial_equilibrium", "path_following", "cosimulation", "saddle_point_solver"});
+    check_keys(n, "solver",
+               {"analysis", "formulation", "integrator", "rho_infinity", "numerical_dissipation",
+                "scaling", "dt", "t_end", "residual_tolerance", "increment_tolerance",
+                "max_iterations", "max_subdivisions", "linear", "initial_equilibrium",
+                "path_following", "cosimulation", "saddle_point_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -229,6 +232,18 @@ class Reader : YamlFields {
              fmt::format("{} is outside [0, 1] (the spectral radius of generalized-α at infinite "
                          "frequency)",
                          s.rho_infinity));
+    }
+    if (const auto v = n["numerical_dissipation"]) {
+      s.numerical_dissipation = number(v, "solver.numerical_dissipation");
+      if (s.numerical_dissipation < 0.0 || s.numerical_dissipation > 0.25)
+        fail(v, "solver.numerical_dissipation",
+             fmt::format("{} is outside [0, 0.25] (χ of the algorithmic stress on the strains' "
+                         "second difference; 0.01–0.1 damps the modes with ωΔt ≈ 1–100)",
+                         s.numerical_dissipation));
+      if (s.numerical_dissipation > 0.0 && s.integrator != model::Integrator::energy_momentum)
+        fail(v, "solver.numerical_dissipation",
+             "is for the energy–momentum integrator (generalized-α has rho_infinity; BDF "
+             "dissipates by itself)");
     }
     if (const auto v = n["scaling"]) s.scaling = boolean(v, "solver.scaling");
     if (const auto v = n["dt"]) s.dt = positive(v, "solver.dt");

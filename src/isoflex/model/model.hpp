@@ -484,7 +484,10 @@ struct Solver {
   Formulation formulation = Formulation::reparametrized;
   Integrator integrator = Integrator::energy_momentum;
   double rho_infinity = 0.8;  // generalized-α: spectral radius at infinite frequency, ρ∞ ∈ [0, 1]
-  bool scaling = true;        // DAE schemes: scaled iteration matrix (IGA-thesis §2.2.4)
+  // Energy–momentum: χ of the algorithmic stress χ C (ΔEₙ₊₁ − ΔEₙ) that damps the strains' second
+  // difference (docs/theory/schemes.md §10); 0 conserves the energy.
+  double numerical_dissipation = 0.0;
+  bool scaling = true;  // DAE schemes: scaled iteration matrix (IGA-thesis §2.2.4)
   double dt = 1e-2;
   double t_end = 1.0;
   double residual_tolerance = 1e-16;  // ‖R‖∞ relative to max(1, (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞)

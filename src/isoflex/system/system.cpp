@@ -254,14 +254,27 @@ VecX System::viscous_force(const VecX& q, const VecX& qdot, double cq, double cv
   return f;
 }
 
+VecX System::strain_dissipation_force(const VecX& q_prev, const VecX& qn, const VecX& qn1,
+                                      double chi, double ratio, SpMat* K) const {
+  VecX f = VecX::Zero(n());
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        return e.strain_dissipation_force_in_pattern(stacked(q_prev, nodes), stacked(qn, nodes),
+                                                     stacked(qn1, nodes), chi, ratio, values);
+      },
+      f, K, Kernels::strain_dissipation_adding);
+  return f;
+}
+
 void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
                                 Kernels kernels) const {
-  const bool adding = kernels == Kernels::viscous_adding;
+  const bool adding = kernels != Kernels::all_overwriting;
   std::vector<double> values;
   bool touched = false;  // whether K has received values yet (it starts at zero)
   for (std::size_t i = 0; i < elements_.size(); ++i) {
     const auto& e = elements_[i];
-    if (adding && !e->viscous()) continue;
+    if (kernels == Kernels::viscous_adding && !e->viscous()) continue;
+    if (kernels == Kernels::strain_dissipation_adding && !e->strain_dissipation()) continue;
     const auto& nodes = e->nodes();
     const int part = element_part_[i];
     // An element whose pattern is the whole global one (a patch alone) writes in place: always

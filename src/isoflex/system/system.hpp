@@ -261,6 +261,13 @@ class System {
   // schemes evaluate it at (q_{n+½}, Δq/Δt) with cq = ½, cv = 1/Δt; the DAE schemes at (q, q̇(q))
   // with cq = 1, cv = γ′ (IGA-thesis (2.27), C_t).
   VecX viscous_force(const VecX& q, const VecX& qdot, double cq, double cv, SpMat* K) const;
+  // Whether some element can damp its strains numerically (Element::strain_dissipation).
+  bool strain_dissipation() const { return strain_dissipation_; }
+  // The elements' algorithmic dissipative forces f_d(qₙ₋₁, qₙ, qₙ₊₁) of the energy–momentum
+  // step with numerical dissipation χ (docs/theory/schemes.md §10); K (if not null, in the pattern
+  // of stiffness_pattern()) += ∂f_d/∂qₙ₊₁.
+  VecX strain_dissipation_force(const VecX& q_prev, const VecX& qn, const VecX& qn1, double chi,
+                                double ratio, SpMat* K) const;
   // The generalized external loads f_ext(q, t) (positive: the force the loads exert).
   VecX load_force(const VecX& q, double t) const;
 
@@ -380,7 +387,7 @@ class System {
       std::function<VecX(const elements::Element&, const std::vector<int>& nodes, double* values)>;
   // Every element, whose kernel overwrites its matrix values; or only the viscous elements
   // (Element::viscous), whose kernel adds to them.
-  enum class Kernels { all_overwriting, viscous_adding };
+  enum class Kernels { all_overwriting, viscous_adding, strain_dissipation_adding };
   // f += the kernel's vector per element, K += its matrix values (fixed pattern).
   void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
                           Kernels kernels = Kernels::all_overwriting) const;
@@ -476,8 +483,9 @@ class System {
   std::vector<int> node_beam_;  // beam index (shells: after the beams) of a node, −1 for a body
   int m_all_ = 0, k_ = 0, cut_rank_qr_ = 0;
   double v0_error_ = 0.0;
-  bool rheonomic_ = false;  // some row depends on t
-  bool viscous_ = false;    // some element has viscous forces
+  bool rheonomic_ = false;           // some row depends on t
+  bool viscous_ = false;             // some element has viscous forces
+  bool strain_dissipation_ = false;  // some element has Element::strain_dissipation
   VecX q0_, v0_;
   SpMat M_;
   VecX ground_;

@@ -110,6 +110,8 @@ System System::compile(const model::Model& model) {
   s.add_shells(build);
   s.add_kl_patches(model);
   for (const auto& e : s.elements_) s.viscous_ = s.viscous_ || e->viscous();
+  for (const auto& e : s.elements_)
+    s.strain_dissipation_ = s.strain_dissipation_ || e->strain_dissipation();
   s.finish_nodes(build);
   // A static analysis has no inertia: its mass matrix stays empty (zero), saving the patch mass
   // (as large as the stiffness) and its quadrature.
