@@ -162,6 +162,9 @@ INSTANTIATE_TEST_SUITE_P(
         // Kelvin–Voigt damping (State::dissipated).
         Case{"from_equilibrium", kExamples + "viscoelastic_beam_release/model.yaml",
              "--set solver.t_end=0.2", 0},
+        // The energy–momentum step with numerical dissipation needs qₙ₋₁ (State::q_prev).
+        Case{"numerical_dissipation", kExamples + "intersecting_shells/model.yaml",
+             "--set solver.t_end=0.3 --set solver.numerical_dissipation=0.05", 7},
         // Every 4th state and the last one.
         Case{"state_every", kSliderCrank, "--set solver.t_end=0.3 --set output.hdf5_state_every=4",
              8}),

@@ -69,6 +69,30 @@ TEST(NumericalDissipation, MomentaAndTheEnergyBalanceExactInEveryFormulation) {
   EXPECT_LT((ends[0] - ends[2]).norm(), 1e-8);
 }
 
+// Halved steps (max_iterations 4: most steps are taken as halves or quarters): the second
+// difference of steps of other lengths, ΔEₙ₊₁ − (Δt/Δtₙ) ΔEₙ, and the work summed with the same
+// ratio keep the balance.
+TEST(NumericalDissipation, HalvedStepsKeepTheBalance) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
+  model::Model m = shells(0.05, 1.2);
+  m.solver.max_iterations = 4;
+  const test::Trajectory r = test::simulate(m, F::reparametrized);
+  const auto& s = r.snapshots;
+  const double H0 = s.front().total_energy + s.front().dissipated_energy - s.front().external_work;
+  double balance = 0.0;
+  int iterations = 0;
+  for (const auto& x : s) {
+    balance = std::max(balance, std::abs(x.total_energy + x.dissipated_energy - x.external_work -
+                                         H0) /
+                                    s.back().total_energy);
+    iterations += x.newton_iterations;
+  }
+  std::printf("  [dissipation] halved steps: %d iterations in %zu steps, balance %.2e\n",
+              iterations, s.size() - 1, balance);
+  EXPECT_GT(iterations, 4 * static_cast<int>(s.size() - 1));  // more than one attempt per step
+  EXPECT_LT(balance, 1e-12);
+}
+
 // Second order: the probe at t = 0.4 for Δt = 0.02 … 0.0025 converges with ratio 4 of successive
 // differences, and the dissipative and conservative steps part by O(Δt²) (the algorithmic stress is
 // O(Δt²) on a smooth motion: a local error O(Δt³)), well below the discretization error.

@@ -478,11 +478,12 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   if (settings_.formulation == F::reparametrized)
     sys_.transport_increments(s.q, q1, s.last_unknowns);
-  s.last_dt = dt;
   const VecX dq = q1 - s.q;
+  // The step's own ratio Δt/Δtₙ: before last_dt becomes this step's length.
+  if (dissipating(s)) s.dissipated += dissipative_force(s, q1, c.dt, nullptr).dot(dq);
+  s.last_dt = dt;
   if (sys_.viscous())
     s.dissipated += sys_.viscous_force(0.5 * (s.q + q1), dq / c.dt, 0, 0, nullptr).dot(dq);
-  if (dissipating(s)) s.dissipated += dissipative_force(s, q1, c.dt, nullptr).dot(dq);
   if (settings_.numerical_dissipation > 0.0) s.q_prev = s.q;
   if (!sys_.loads().empty())
     s.external_work += sys_.external_force(0.5 * (s.q + q1), c.t_mid).dot(dq);
