@@ -74,3 +74,28 @@ TEST(CliIntegrators, ANonConvergingDaeStepEndsWithCode3AndKeepsTheOutputs) {
   EXPECT_NE(read_text(d.path() / "o" / "summary.json").find("\"status\": \"failed\""),
             std::string::npos);
 }
+
+// solver.numerical_dissipation (docs/theory/schemes.md §10): `check` says it is on, and a run
+// writes the dissipated energy to history.csv and summary.json.
+TEST(CliIntegrators, NumericalDissipationIsSaidAndItsWorkWritten) {
+  const isoflex::test::TempDir d(fs::temp_directory_path() /
+                                 ("isoflex_cli_dissipation_" + std::to_string(::getpid())));
+  const std::string model =
+      std::string(ISOFLEX_SOURCE_DIR) + "/examples/intersecting_shells/model.yaml";
+  const std::string set = " --set solver.numerical_dissipation=0.05";
+  const auto c = run_isoflex("check " + model + set);
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find("dissipation      numerical, chi 0.05 on the director shells' strains"),
+            std::string::npos)
+      << c.out;
+  EXPECT_EQ(run_isoflex("check " + model).out.find("dissipation      numerical"),
+            std::string::npos);
+  const auto r = run_isoflex("run " + model + set + " --t-end 0.1 --set output.vtk_every=0 -o " +
+                             (d.path() / "o").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string history = read_text(d.path() / "o" / "history.csv");
+  EXPECT_NE(history.substr(0, history.find('\n')).find("dissipated_energy"), std::string::npos)
+      << history.substr(0, 200);
+  EXPECT_NE(read_text(d.path() / "o" / "summary.json").find("\"dissipated_energy\": "),
+            std::string::npos);
+}

@@ -82,9 +82,9 @@ TEST(NumericalDissipation, HalvedStepsKeepTheBalance) {
   double balance = 0.0;
   int iterations = 0;
   for (const auto& x : s) {
-    balance = std::max(balance, std::abs(x.total_energy + x.dissipated_energy - x.external_work -
-                                         H0) /
-                                    s.back().total_energy);
+    balance =
+        std::max(balance, std::abs(x.total_energy + x.dissipated_energy - x.external_work - H0) /
+                              s.back().total_energy);
     iterations += x.newton_iterations;
   }
   std::printf("  [dissipation] halved steps: %d iterations in %zu steps, balance %.2e\n",

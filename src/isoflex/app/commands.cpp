@@ -529,10 +529,15 @@ int print_check(const std::string& file, const std::optional<Loaded>& l, std::FI
   if (l->model.solver.analysis == model::Analysis::statics)
     print_static_check(sys, l->model.solver, out);
   else if (const model::Solver& so = l->model.solver;
-           so.integrator == model::Integrator::energy_momentum)
+           so.integrator == model::Integrator::energy_momentum) {
     fmt::print(out, "unknowns         constrained {}, nullspace {}, reparametrized {}\n",
                sys.n() + sys.m_selected(), sys.n(), sys.k());
-  else  // a DAE scheme: (q, λ) with every selected row (integrate/dae_integrator.hpp)
+    if (so.numerical_dissipation > 0.0)
+      fmt::print(out,
+                 "dissipation      numerical, chi {:g} on the director shells' strains "
+                 "(momenta exact, energy decays)\n",
+                 so.numerical_dissipation);
+  } else  // a DAE scheme: (q, λ) with every selected row (integrate/dae_integrator.hpp)
     fmt::print(out, "unknowns         {} ({}{}, {})\n", sys.n() + sys.m_selected(),
                model::to_string(so.integrator),
                so.integrator == model::Integrator::generalized_alpha
