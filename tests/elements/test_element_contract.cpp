@@ -20,6 +20,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "isoflex/elements/beam_element.hpp"
@@ -502,6 +503,13 @@ using Makers =
                      BushingMaker, SliderSpringMaker, RevoluteSpringMaker>;
 TYPED_TEST_SUITE(ElementContract, Makers, MakerNames);
 
+// The elements with numerical dissipation (Element::strain_dissipation; section 9 below).
+template <class Maker>
+class StrainDissipationContract : public ElementContract<Maker> {};
+using DissipatingMakers =
+    ::testing::Types<BeamMaker, CornerBeamMaker, HelixBeamMaker, DirectorShellMaker>;
+TYPED_TEST_SUITE(StrainDissipationContract, DissipatingMakers, MakerNames);
+
 }  // namespace
 
 // The maker is consistent with the element: one node kind per node, stacked sizes adding up, and
@@ -836,4 +844,69 @@ TYPED_TEST(ElementContract, ViscousForceDissipatesAndSparesRigidVelocitiesAndMom
   report(this->kind, "viscous: sum of position forces / |f_v|", worst_lin);
   report(this->kind, "viscous: sum q x f_v / (|f_v| |q|)", worst_ang);
   report(this->kind, "viscous: |f_v(rigid velocity)| / |f_v|", worst_rigid);
+}
+
+// 9. Numerical dissipation of the energy–momentum step. Only beams and director shells have it
+// (StrainDissipationContract below); every other element says so.
+TYPED_TEST(ElementContract, StrainDissipationOnlyWhereTheElementHasStrainForms) {
+  const bool listed =
+      std::is_same_v<TypeParam, BeamMaker> || std::is_same_v<TypeParam, CornerBeamMaker> ||
+      std::is_same_v<TypeParam, HelixBeamMaker> || std::is_same_v<TypeParam, DirectorShellMaker>;
+  EXPECT_EQ(this->element.strain_dissipation(), listed);
+}
+
+// Numerical dissipation of the energy–momentum step (docs/theory/schemes.md §10): the
+// algorithmic force f_d(qₙ₋₁, qₙ, qₙ₊₁) = B(q_{n+½})ᵀ χ C (ΔEₙ₊₁ − r ΔEₙ). Its derivative in
+// qₙ₊₁ against central differences, added into the element's pattern.
+TYPED_TEST(StrainDissipationContract, TangentMatchesFiniteDifference) {
+  const auto& e = this->element;
+  ASSERT_TRUE(e.strain_dissipation());
+  const SpMat pattern = e.pattern();
+  double worst = 0.0;
+  for (int t = 0; t < this->kTrials; ++t) {
+    const VecX qp = this->deformed(), qn = this->deformed(), qn1 = this->deformed();
+    auto force = [&](const VecX& y) -> VecX {
+      return e.strain_dissipation_force_in_pattern(qp, qn, y, 0.05, 0.7, nullptr);
+    };
+    SpMat K = pattern;
+    std::fill_n(K.valuePtr(), K.nonZeros(), 1.0);  // the kernel adds to what it is given
+    const VecX f = e.strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 0.7, K.valuePtr());
+    std::for_each(K.valuePtr(), K.valuePtr() + K.nonZeros(), [](double& v) { v -= 1.0; });
+    EXPECT_GT(f.norm(), 0.0) << "trial " << t;
+    const double err = rel_diff(MatX(K), central_jacobian(force, qn1));
+    EXPECT_LT(err, 1e-6) << "trial " << t;
+    worst = std::max(worst, err);
+  }
+  report(this->kind, "dissipation df_d/dqn1 vs central FD (rel)", worst);
+}
+
+// Momenta: no resultant on the positions and no moment about the origin at the midpoint (the
+// force is B(q_{n+½})ᵀ times stresses, as DV); objectivity: configurations that differ by rigid
+// motions have the same strains and meet no force; with r = 0 its work Δq·f_d = χ ΔEᵀ C ΔE ≥ 0.
+TYPED_TEST(StrainDissipationContract, ConservesMomentaAndDissipates) {
+  const auto& e = this->element;
+  ASSERT_TRUE(e.strain_dissipation());
+  const auto& kinds = this->maker.kinds;
+  double worst_lin = 0.0, worst_ang = 0.0, worst_rigid = 0.0;
+  for (int t = 0; t < this->kTrials; ++t) {
+    const VecX qp = this->deformed(), qn = this->deformed(), qn1 = this->deformed();
+    const VecX f = e.strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 1.0, nullptr);
+    const VecX mid = 0.5 * (qn + qn1);
+    const double scale = std::max(f.norm(), 1e-300);
+    worst_lin = std::max(worst_lin, position_sum(f, this->phi).norm() / scale);
+    worst_ang = std::max(worst_ang, moment(mid, f).norm() / (scale * std::max(mid.norm(), 1.0)));
+    const VecX work = e.strain_dissipation_force_in_pattern(qp, qn, qn1, 0.05, 0.0, nullptr);
+    EXPECT_GT(work.dot(qn1 - qn), 0.0) << "trial " << t;
+    const VecX moved = e.strain_dissipation_force_in_pattern(
+        qn, rigid_motion(qn, kinds, random_rotation(this->g), random_vector(this->g, 3, 1.0)),
+        rigid_motion(qn, kinds, random_rotation(this->g), random_vector(this->g, 3, 1.0)), 0.05,
+        1.0, nullptr);
+    worst_rigid = std::max(worst_rigid, moved.norm() / scale);
+  }
+  EXPECT_LT(worst_lin, 1e-13);
+  EXPECT_LT(worst_ang, 1e-13);
+  EXPECT_LT(worst_rigid, 1e-12);
+  report(this->kind, "dissipation: sum of position forces / |f_d|", worst_lin);
+  report(this->kind, "dissipation: sum q_mid x f_d / (|f_d| |q_mid|)", worst_ang);
+  report(this->kind, "dissipation: |f_d(rigidly moved)| / |f_d|", worst_rigid);
 }

@@ -71,6 +71,41 @@ TEST(NumericalDissipation, MomentaAndTheEnergyBalanceExactInEveryFormulation) {
   EXPECT_LT((ends[0] - ends[2]).norm(), 1e-8);
 }
 
+// Beams too: the free-flying beam of examples/free_flying_beam after its load pulse (t > 2.5).
+TEST(NumericalDissipation, BeamsKeepMomentaAndTheBalance) {
+  ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
+  model::Model m =
+      io::read_model_string(test::example_text("free_flying_beam", "model.yaml"), "model.yaml");
+  m.solver.numerical_dissipation = 0.05;
+  m.solver.t_end = 3.5;
+  std::vector<Vec3> ends;
+  for (F f : {F::reparametrized, F::constrained}) {
+    const test::Trajectory r = test::simulate(m, f);
+    const auto& s = r.snapshots;
+    const std::size_t i0 = r.first_at(2.5);
+    const double H0 = s[i0].total_energy + s[i0].dissipated_energy;
+    double balance = 0.0, dp = 0.0, dL = 0.0;
+    for (std::size_t i = i0; i < s.size(); ++i) {
+      balance = std::max(balance, std::abs(s[i].total_energy + s[i].dissipated_energy - H0) / H0);
+      dp = std::max(
+          dp, (s[i].linear_momentum - s[i0].linear_momentum).norm() / s[i0].linear_momentum.norm());
+      dL = std::max(dL, (s[i].angular_momentum - s[i0].angular_momentum).norm() /
+                            s[i0].angular_momentum.norm());
+    }
+    const double lost = (s.back().dissipated_energy - s[i0].dissipated_energy) / H0;
+    std::printf(
+        "  [dissipation] beam %-15s |E + D - const| / E %.2e, p %.2e, L %.2e, "
+        "D(3.5) - D(2.5) %.2e of E\n",
+        model::to_string(f), balance, dp, dL, lost);
+    EXPECT_LT(balance, 1e-12) << model::to_string(f);
+    EXPECT_LT(dp, 1e-11) << model::to_string(f);
+    EXPECT_LT(dL, 1e-11) << model::to_string(f);
+    EXPECT_GT(lost, 0.0) << model::to_string(f);
+    ends.push_back(r.probe(r.snapshots.back().probes.front().name).back());
+  }
+  EXPECT_LT((ends[0] - ends[1]).norm(), 1e-8);
+}
+
 // Halved steps (max_iterations 4: most steps are taken as halves or quarters): the second
 // difference of steps of other lengths, ΔEₙ₊₁ − (Δt/Δtₙ) ΔEₙ, and the work summed with the same
 // ratio keep the balance.

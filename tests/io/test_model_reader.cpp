@@ -576,8 +576,8 @@ TEST(ModelReader, SolverNumericalDissipation) {
       "m.yaml:8: solver.numerical_dissipation: is for the energy–momentum integrator "
       "(generalized-α has rho_infinity; BDF dissipates by itself)");
   EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.1"})),
-            "m.yaml:7: solver.numerical_dissipation: acts on the strains of director shells "
-            "(shells:), and the model has none");
+            "m.yaml:7: solver.numerical_dissipation: acts on the strains of beams and director "
+            "shells, and the model has none");
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

@@ -534,7 +534,7 @@ int print_check(const std::string& file, const std::optional<Loaded>& l, std::FI
                sys.n() + sys.m_selected(), sys.n(), sys.k());
     if (so.numerical_dissipation > 0.0)
       fmt::print(out,
-                 "dissipation      numerical, chi {:g} on the director shells' strains "
+                 "dissipation      numerical, chi {:g} on the strains of beams and shells "
                  "(momenta exact, energy decays)\n",
                  so.numerical_dissipation);
   } else  // a DAE scheme: (q, λ) with every selected row (integrate/dae_integrator.hpp)

@@ -225,6 +225,22 @@ void BeamElement::discrete_gradient(const Q& qn, const Q& qn1, Q& dv,
   K *= 0.5 * L0_;
 }
 
+VecX BeamElement::strain_dissipation_force_in_pattern(const VecX& q_prevx, const VecX& qnx,
+                                                      const VecX& qn1x, double chi, double ratio,
+                                                      double* values) const {
+  const Q qn = as_element_q(qnx), qn1 = as_element_q(qn1x);
+  const Strain6 en = raw_strains(qn);
+  const Strain6 d2e = raw_strains(qn1) - en - ratio * (en - raw_strains(as_element_q(q_prevx)));
+  const Strain6 S = chi * C_.cwiseProduct(d2e);
+  const Mat<6, kCoords> Bm = strain_jacobian(0.5 * (qn + qn1));
+  if (values) {
+    const Mat<kCoords, 6> BmC = Bm.transpose() * (chi * C_).asDiagonal();
+    Eigen::Map<Mat<kCoords, kCoords>>(values) +=
+        L0_ * (BmC.lazyProduct(strain_jacobian(qn1)) + 0.5 * weighted_strain_hessian(S));
+  }
+  return L0_ * Bm.transpose() * S;
+}
+
 VecX BeamElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq, double cv,
                                            double* values) const {
   const Q q = as_element_q(qx), v = as_element_q(qdotx);

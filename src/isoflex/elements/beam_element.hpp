@@ -89,6 +89,12 @@ class BeamElement final : public Element {
   // stiffnesses times η; docs/theory/beam.md §9). B is linear in q, so ∂(B(q) q̇)/∂q = B(q̇):
   // ∂f_v/∂q = L₀ (Σ_k S_v,k H_k + Bᵀ η C B(q̇)), ∂f_v/∂q̇ = L₀ Bᵀ η C B.
   bool viscous() const override { return section_.eta > 0.0; }
+  // Numerical dissipation (docs/theory/schemes.md §10): χ C (ΔEₙ₊₁ − r ΔEₙ) on Γ and K at the
+  // midpoint, f_d = L₀ B(q_{n+½})ᵀ S_d, ∂f_d/∂qₙ₊₁ = L₀ (½ Σ_k S_d,k H_k + B(q_{n+½})ᵀ χ C
+  // B(qₙ₊₁)).
+  bool strain_dissipation() const override { return true; }
+  VecX strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn, const VecX& qn1,
+                                           double chi, double ratio, double* values) const override;
   VecX viscous_force_in_pattern(const VecX& q, const VecX& qdot, double cq, double cv,
                                 double* values) const override;
 

@@ -139,9 +139,9 @@ class Reader : YamlFields {
             s.name,
             BeamInfo{s.source.line, static_cast<int>(surface->surface.points.size()), true, true});
     }
-    if (m.solver.numerical_dissipation > 0.0 && m.shells.empty())
+    if (m.solver.numerical_dissipation > 0.0 && m.shells.empty() && m.beams.empty())
       fail(root["solver"]["numerical_dissipation"], "solver.numerical_dissipation",
-           "acts on the strains of director shells (shells:), and the model has none");
+           "acts on the strains of beams and director shells, and the model has none");
     if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];

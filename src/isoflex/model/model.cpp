@@ -109,7 +109,7 @@ double Beam::length() const {
 
 bool has_material_damping(const Model& m) {
   if (m.solver.analysis != Analysis::dynamic) return false;
-  if (m.solver.numerical_dissipation > 0.0 && !m.shells.empty()) return true;
+  if (m.solver.numerical_dissipation > 0.0 && (!m.shells.empty() || !m.beams.empty())) return true;
   for (const KLShell& s : m.kl_shells)
     if (s.eta > 0) return true;
   for (const Beam& b : m.beams)

@@ -484,8 +484,9 @@ struct Solver {
   Formulation formulation = Formulation::reparametrized;
   Integrator integrator = Integrator::energy_momentum;
   double rho_infinity = 0.8;  // generalized-α: spectral radius at infinite frequency, ρ∞ ∈ [0, 1]
-  // Energy–momentum: χ of the algorithmic stress χ C (ΔEₙ₊₁ − ΔEₙ) that damps the strains' second
-  // difference (docs/theory/schemes.md §10); 0 conserves the energy.
+  // Energy–momentum: χ of the algorithmic stress χ C (ΔEₙ₊₁ − ΔEₙ) that damps the second
+  // difference of the strains of beams and director shells (docs/theory/schemes.md §10); 0
+  // conserves the energy.
   double numerical_dissipation = 0.0;
   bool scaling = true;  // DAE schemes: scaled iteration matrix (IGA-thesis §2.2.4)
   double dt = 1e-2;
