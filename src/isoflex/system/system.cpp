@@ -460,21 +460,25 @@ System::InputBlocks System::update_input_blocks(const VecX& qn, const VecX& q1,
   return in;
 }
 
-SpMat System::twist_map(const VecX& q, const InputBlocks& in) const {
-  // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
-  using Blocks = std::vector<std::pair<int, MatX>>;
-  std::vector<Blocks> rows(node_count());
+System::TwistBlocks System::twist_blocks(const VecX& q, const InputBlocks& in) const {
+  TwistBlocks rows(node_count());
   for (std::size_t r = 0; r < roots_.size(); ++r)
     rows[roots_[r]].push_back({root_nu_offset_[r], in.root[r]});
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    Blocks& out = rows[J.child];
+    auto& out = rows[J.child];
     if (J.parent >= 0) {
       const Mat<6, 6> A = J.joint->parent_block(node_q(q, J.parent), node_q(q, J.child));
       for (const auto& [c, B] : rows[J.parent]) out.push_back({c, A * B});
     }
     if (J.joint->freedom_count() > 0) out.push_back({J.nu_offset, in.joint[j]});
   }
+  return rows;
+}
+
+SpMat System::twist_map(const VecX& q, const InputBlocks& in) const {
+  // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
+  const TwistBlocks rows = twist_blocks(q, in);
   Triplets t;
   for (int i = 0; i < node_count(); ++i)
     for (const auto& [c, B] : rows[i]) add_block(t, 6 * i, c, B);
@@ -537,6 +541,31 @@ SpMat System::tree_null_space(const VecX& q) const {
   }
   P.finalize();
   return P;
+}
+
+VecX System::abs_tree_null_space_transpose(const VecX& q, const VecX& t) const {
+  // Column j of P_tree = P_int E (57) has, in the rows of node i, P_int,i E_{i,g} (the group g of
+  // column j on the node's path): each entry summed over the six twist rows in order, as
+  // tree_null_space does. Nodes in order are rows in order, so every column's sum runs in the
+  // order of the sparse product |P_tree|ᵀ t.
+  const TwistBlocks rows = twist_blocks(q, input_blocks(q));
+  VecX out = VecX::Zero(k_);
+  for (int i = 0; i < node_count(); ++i) {
+    const NodeMat Pi = node_type(i).twist_null_space(node_q(q, i));
+    const int o = nodes_[i].q_offset;
+    // The zero entries of P_int that tree_null_space skips add ±0 here: the same sums.
+    for (const auto& [c, B] : rows[i])
+      for (int col = 0; col < B.cols(); ++col) {
+        const double* b = B.col(col).data();
+        double& sum = out(c + col);
+        for (int r = 0; r < Pi.rows(); ++r) {
+          double x = 0.0;
+          for (int s = 0; s < 6; ++s) x += Pi(r, s) * b[s];
+          sum += std::abs(x) * t(o + r);
+        }
+      }
+  }
+  return out;
 }
 
 VecX System::update(const VecX& qn, const VecX& u) const {

@@ -289,6 +289,9 @@ class System {
 
   // Tree null space P_tree(q) (n × k): G_tree(q) P_tree(q) = 0 for every q.
   SpMat tree_null_space(const VecX& q) const;
+  // |P_tree(q)|ᵀ t (entrywise absolute values, k) without forming P_tree: the node blocks
+  // P_int,i E_{i,g} along each node's path, with the entries and sums of tree_null_space.
+  VecX abs_tree_null_space_transpose(const VecX& q, const VecX& t) const;
   // Twist-level map E(q) (6·nodes × k) with t = E ν.
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
@@ -374,6 +377,9 @@ class System {
   InputBlocks input_blocks(const VecX& q) const;
   InputBlocks update_input_blocks(const VecX& qn, const VecX& q1, const VecX& u) const;
   SpMat twist_map(const VecX& q, const InputBlocks& in) const;
+  // Each node's twist as blocks over its tree path: (first column in ν, 6 × w block of E).
+  using TwistBlocks = std::vector<std::vector<std::pair<int, MatX>>>;
+  TwistBlocks twist_blocks(const VecX& q, const InputBlocks& in) const;
   // The global coordinates of the given nodes, stacked.
   std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
   using ElementKernel =
