@@ -179,28 +179,42 @@ SpMat EnergyMomentumIntegrator::reduced_stiffness(const VecX& qm, const SpMat& G
   return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(qm, lambda);
 }
 
-VecX EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
+const VecX& EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R) const {
   if (J.tree) {
     auto du = tree_->solve(J.qm, J.q1, J.u, J.A, -R);
     if (!du) throw std::logic_error("Newton matrix couples nodes that are not tree neighbours");
-    return *du;
+    correction_ = std::move(*du);
+    return correction_;
   }
-  if (J.blocks) return blocks_->solve(J.A, -R);
-  if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) return newton_lu_.solve(J.A, -R);
+  if (J.blocks) {
+    minus_residual_ = -R;
+    return blocks_->solve(J.A, minus_residual_);
+  }
+  if (J.row == 0 && J.col == 0 && J.A.rows() == R.size()) {
+    correction_ = newton_lu_.solve(J.A, -R);
+    return correction_;
+  }
   VecX b = VecX::Zero(J.A.rows());
   b.segment(J.row, R.size()) = -R;
   const int size = settings_.formulation == F::nullspace ? sys_.n() : sys_.k();
-  return solve::solve(J.A, b).segment(J.col, size);
+  correction_ = solve::solve(J.A, b).segment(J.col, size);
+  return correction_;
 }
 
-VecX EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x, NewtonMatrix* NJ,
-                                        bool bordered) const {
+const VecX& EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x,
+                                               NewtonMatrix* NJ, bool bordered) const {
   if (blocks_ && !bordered) {
     // Reparametrized, no loop-closing rows: fixed-pattern block assembly of 𝖯ᵀ K̂ F′.
     if (NJ) NJ->blocks = true;
     return blocks_->evaluate(c.s->q, c.s->v, x, c.dt, c.t_mid, normal_equations_,
                              NJ ? &NJ->A : nullptr);
   }
+  residual_ = evaluate_assembled(c, x, NJ, bordered);
+  return residual_;
+}
+
+VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const VecX& x,
+                                                  NewtonMatrix* NJ, bool bordered) const {
   SpMat* J = NJ ? &NJ->A : nullptr;
   const State& s = *c.s;
   const double dt = c.dt;
@@ -416,10 +430,11 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     // keeps its max_iterations.
     opt.stop_when_diverging = k + 1 < starts.size();
     const NewtonOutcome o = newton_loop(
-        opt, [&](bool matrix) { return evaluate(c, x, matrix ? &J : nullptr, fast); },
+        opt,
+        [&](bool matrix) -> const VecX& { return evaluate(c, x, matrix ? &J : nullptr, fast); },
         [&] { return ref; },
         [&](const VecX& R) {
-          const VecX dx = correction(J, R);
+          const VecX& dx = correction(J, R);
           x += dx;
           // Configuration units for every formulation (positions; u moves material points by
           // about |u| times the size of the system).

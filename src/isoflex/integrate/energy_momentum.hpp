@@ -91,8 +91,12 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
     bool blocks = false;  // A in the fixed pattern of blocks_
     VecX qm, q1, u;
   };
-  VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
-  VecX correction(const NewtonMatrix& J, const VecX& R) const;
+  // The residual and the correction are kept workspaces (valid until the next call): the block
+  // path's Newton iteration allocates nothing.
+  const VecX& evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  VecX evaluate_assembled(const StepContext& c, const VecX& x, NewtonMatrix* J,
+                          bool bordered) const;  // every path but the blocks
+  const VecX& correction(const NewtonMatrix& J, const VecX& R) const;
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;
@@ -122,6 +126,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // unchanged (a cache; an integrator is not shared between threads).
   mutable solve::NormalEquations normal_equations_;
   mutable solve::FixedPatternLU newton_lu_;  // keeps its column ordering while J keeps its pattern
+  mutable VecX residual_, correction_, minus_residual_;  // workspaces of evaluate and correction
   std::optional<system::TreeNewtonSolver> tree_;
   std::optional<ReducedNewtonMatrix> blocks_;
 };

@@ -340,7 +340,9 @@ void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, doubl
       a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
       b.segment<12>(12 * i) = q1.segment<12>(12 * nodes[i]);
     }
-    const VecX dv = elements[e]->discrete_gradient(a, b, want ? &Ke : nullptr);
+    VecX& dv = element_dv_;
+    dv.setZero(12 * ne);
+    elements[e]->add_discrete_gradient(a, b, dv, want ? &Ke : nullptr);
     for (int i = 0; i < ne; ++i) {
       f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
       if (want)
@@ -352,10 +354,12 @@ void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, doubl
   for (std::size_t l = 0; l < sys_.loads().size(); ++l) {
     const loads::Load& L = *sys_.loads()[l];
     const std::vector<int>& nodes = L.nodes();
-    VecX x(12 * nodes.size());
+    VecX &x = a_, &g = b_;
+    x.resize(12 * static_cast<int>(nodes.size()));
     for (std::size_t i = 0; i < nodes.size(); ++i)
       x.segment<12>(12 * i) = 0.5 * (qn.segment<12>(12 * nodes[i]) + q1.segment<12>(12 * nodes[i]));
-    const VecX g = L.generalized_force(x, t_mid);
+    g.setZero(x.size());
+    L.add_generalized_force(x, t_mid, g);
     for (std::size_t i = 0; i < nodes.size(); ++i)
       f.segment<12>(12 * nodes[i]) -= g.segment<12>(12 * i);
     if (!want || load_entries_[l].empty()) continue;
@@ -384,7 +388,8 @@ bool ReducedNewtonMatrix::midpoint_jacobian(const VecX& qm) const {
   }
   for (std::size_t j = 0; j < sys_.joints().size(); ++j) {
     const auto& J = sys_.joints()[j];
-    const MatX Gj = J.frame->jacobian(sys_.node_q(qm, J.parent), sys_.node_q(qm, J.child));
+    const joints::FrameJoint::Rows Gj =
+        J.frame->fixed_jacobian(fn::Q(sys_.node_q(qm, J.parent)), fn::Q(sys_.node_q(qm, J.child)));
     const int m = J.frame->constraint_count();
     const int* sl = &joint_slots_[joint_first_slot_[j]];
     for (int c = 0; c < 24; ++c)
@@ -428,26 +433,32 @@ bool ReducedNewtonMatrix::multipliers(const VecX& qn, const VecX& vn, const VecX
   return true;
 }
 
-VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
-                                   double t_mid, solve::NormalEquations& normal,
-                                   SpMat* Jout) const {
+const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
+                                          double t_mid, solve::NormalEquations& normal,
+                                          SpMat* Jout) const {
+  // Every vector is a kept workspace: an iteration allocates nothing.
   const int N = sys_.node_count();
-  const VecX q1 = sys_.update(qn, u);  // (14), (37)
-  const VecX qm = 0.5 * (qn + q1);
-  const VecX v1 = (2.0 / dt) * (q1 - qn) - vn;
+  VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
+  sys_.update(qn, u, q1, steps_);  // (14), (37)
+  qm = 0.5 * (qn + q1);
+  v1 = (2.0 / dt) * (q1 - qn) - vn;
   const bool want = Jout != nullptr;
   force(qn, q1, dt, t_mid, want);
-  const VecX r0 = sys_.mass() * (v1 - vn) + dt * f_;
-  const VecX R = sys_.reduce(qm, r0);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
-  if (!want) return R;
+  dv_ = v1 - vn;
+  r0.noalias() = sys_.mass() * dv_;
+  r0 += dt * f_;
+  sys_.reduce(qm, r0, R_, y_);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
+  if (!want) return R_;
 
   // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) and ½Δt Σ λ̂ᵢ Hᵢ.
-  VecX lambda;
+  VecX& lambda = lambda_;
   if (!midpoint_jacobian(qm)) {
     const SpMat Gm = sys_.jacobian(qm);
     lambda = normal.solve(Gm, -(Gm * r0) / dt);
   } else {
-    solve_normal(-(G_ * r0) / dt, lambda);
+    rhs_.noalias() = G_ * r0;
+    rhs_ = -rhs_ / dt;
+    solve_normal(rhs_, lambda);
   }
   VecX& l = l_;
   l.setZero(sys_.m_all());
@@ -532,10 +543,11 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     for (int c = 0; c < B.cols(); ++c)
       for (int r = 0; r < B.rows(); ++r) values[slot[c] + r] = B(r, c);
   }
-  return R;
+  return R_;
 }
 
-VecX ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+  VecX& x = x_;
   if (J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k()) {
     const double* v = J.valuePtr();
     for (std::size_t k = 0; k < jblocks_.size(); ++k) {
@@ -546,15 +558,17 @@ VecX ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
         for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
     }
     if (block_lu_.factorize(values_)) {
-      VecX x = block_lu_.solve(b);
+      block_lu_.solve(b, x);
       // No pivoting across blocks: accept the solution by its residual.
-      if (x.allFinite() &&
-          (J * x - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>())
-        return x;
+      if (x.allFinite()) {
+        check_.noalias() = J * x;
+        if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
+      }
     }
   }
   ++fallbacks_;
-  return lu_.solve(J, b);
+  x = lu_.solve(J, b);
+  return x;
 }
 
 }  // namespace isoflex::integrate

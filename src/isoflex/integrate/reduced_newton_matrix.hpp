@@ -38,8 +38,10 @@ class ReducedNewtonMatrix {
   // R(u) for the step from (qₙ, vₙ); J (if not null) receives the Newton matrix (k × k, compressed,
   // always the same pattern). λ̂ of K̂ by least squares from r₀ ≈ −Δt 𝖦ᵀλ; `normal` only if 𝖦
   // has a nonzero outside its fixed pattern (then 𝖦 = System::jacobian).
-  VecX evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
-                solve::NormalEquations& normal, system::SpMat* J) const;
+  // The reference is to a kept workspace, valid until the next call: an iteration (evaluate and
+  // solve) allocates nothing once the first has sized the workspaces.
+  const VecX& evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
+                       solve::NormalEquations& normal, system::SpMat* J) const;
   // The multipliers of the selected rows for the step qₙ → q1 (State::lambda; what
   // EnergyMomentumIntegrator::step_multipliers computes through System): the least-squares
   // solution of 𝖦ᵀλ = −r, r = (1/Δt) M (vₙ₊₁ − vₙ) + f (DNSM-III (9)), with 𝖦 = G(q_{n+½}) in its
@@ -50,7 +52,7 @@ class ReducedNewtonMatrix {
                    solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
   // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
-  VecX solve(const system::SpMat& J, const VecX& b) const;
+  const VecX& solve(const system::SpMat& J, const VecX& b) const;
   const system::SpMat& pattern() const { return pattern_; }
   int analyses() const { return lu_.analyses(); }  // symbolic analyses of the sparse LU so far
   int fallbacks() const { return fallbacks_; }     // solves that needed the sparse LU
@@ -132,7 +134,9 @@ class ReducedNewtonMatrix {
   mutable std::vector<Block> scaled_mass_;  // (2/Δt) M of the pairs at Δt = scaled_mass_dt_
   mutable double scaled_mass_dt_ = 0.0;
   mutable MatX Ke_;
-  mutable VecX a_, b_, l_, f_;
+  mutable VecX a_, b_, l_, f_, element_dv_, q1_, qm_, v1_, dv_, r0_, R_, y_, rhs_, lambda_, x_,
+      check_;
+  mutable std::vector<Mat3> steps_;
   mutable std::vector<double> tangent_;
   mutable std::vector<Mat3> T_;
   mutable std::vector<Mat<12, 6>> Pm_, P1_;

@@ -296,6 +296,9 @@ class System {
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
   VecX update(const VecX& qn, const VecX& u) const;
+  // The same into q, with `step` (the nodes' rotations over the step) as workspace: no heap
+  // allocation once both have their sizes (a Newton iteration).
+  void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const;
   // Overwrites the entries of u that belong to free nodes whose kind extrapolates a step at
   // constant velocity (NodeType::extrapolate; a director node's last increments are in the
   // tangent basis of the last step, which may differ).
@@ -317,6 +320,8 @@ class System {
   void tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const;
   // 𝖯ᵀ r = ℬᵀ (I − 𝒜)⁻ᵀ P_intᵀ r by one sweep from the leaves to the roots.
   VecX reduce(const VecX& q, const VecX& r) const;
+  // The same into out, with y (the nodes' twist forces, 6N) as workspace.
+  void reduce(const VecX& q, const VecX& r, VecX& out, VecX& y) const;
 
   // Momentum maps: p = Σ (M v)_φ, L = Σ_blocks q_k × (M v)_k (docs/theory).
   Vec3 linear_momentum(const VecX& v) const;
