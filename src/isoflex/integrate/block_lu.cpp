@@ -1,8 +1,7 @@
 #include "isoflex/integrate/block_lu.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -84,43 +83,20 @@ void multiply_subtract(const Small& A, const Small& B, Small& T, bool subtract) 
   }
 }
 
-// D⁻¹ by Gauss–Jordan elimination with partial pivoting on fixed-size storage (Eigen's
-// PartialPivLU and inverse() were 6 000 instructions a 6 × 6 block, half of the factorization);
-// false if the ratio of the smallest to the largest pivot is below 1e-12 (the pivots are those of
-// the LU with partial pivoting; cheaper than rcond()).
-bool invert(const Small& D, Small& inv) {
-  const int w = static_cast<int>(D.rows());
-  Mat6 a, b = Mat6::Identity();
-  a.topLeftCorner(w, w) = D;
-  double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < w; ++k) {
-    int p = k;
-    for (int i = k + 1; i < w; ++i)
-      if (std::abs(a(i, k)) > std::abs(a(p, k))) p = i;
-    const double pivot = a(p, k);
-    if (!std::isfinite(pivot) || pivot == 0.0) return false;
-    largest = std::max(largest, std::abs(pivot));
-    smallest = std::min(smallest, std::abs(pivot));
-    if (p != k)
-      for (int c = 0; c < w; ++c) {
-        std::swap(a(p, c), a(k, c));
-        std::swap(b(p, c), b(k, c));
-      }
-    const double s = 1.0 / pivot;
-    for (int c = 0; c < w; ++c) {
-      a(k, c) *= s;
-      b(k, c) *= s;
-    }
-    for (int i = 0; i < w; ++i) {
-      const double f = a(i, k);
-      if (i == k || f == 0.0) continue;
-      for (int c = k; c < w; ++c) a(i, c) -= f * a(k, c);
-      for (int c = 0; c < w; ++c) b(i, c) -= f * b(k, c);
-    }
-  }
-  if (!(smallest > 1e-12 * largest)) return false;
-  inv = b.topLeftCorner(w, w);
+// D⁻¹ by partial pivoting; false if the ratio of the smallest to the largest pivot is below
+// 1e-12 (cheaper than rcond()).
+template <class M>
+bool invert_lu(const M& D, Small& inv) {
+  const Eigen::PartialPivLU<M> lu(D);
+  const auto d = lu.matrixLU().diagonal().cwiseAbs();
+  if (!(d.minCoeff() > 1e-12 * d.maxCoeff())) return false;
+  inv = lu.inverse();
   return true;
+}
+
+bool invert(const Small& D, Small& inv) {
+  if (D.rows() == 6) return invert_lu(Mat6(Eigen::Map<const Mat6>(D.data())), inv);
+  return invert_lu(D, inv);
 }
 }  // namespace
 
