@@ -29,6 +29,13 @@ class Element {
   virtual VecX gradient(const VecX& q) const = 0;
   // DV with DV·(qₙ₊₁ − qₙ) = V(qₙ₊₁) − V(qₙ); dv_dqn1 (if not null) receives ∂DV/∂qₙ₊₁.
   virtual VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const = 0;
+  // dv += DV (dv of the stacked coordinates' size), ∂DV/∂qₙ₊₁ into dv_dqn1 as discrete_gradient;
+  // an element that can overrides it without heap allocation (the fixed-pattern Newton
+  // iteration calls it in every evaluation).
+  virtual void add_discrete_gradient(const VecX& qn, const VecX& qn1, VecX& dv,
+                                     MatX* dv_dqn1) const {
+    dv += discrete_gradient(qn, qn1, dv_dqn1);
+  }
   // Constant consistent mass matrix of the element, in stacked node coordinates.
   virtual MatX mass() const = 0;
 

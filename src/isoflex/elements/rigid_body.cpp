@@ -24,6 +24,11 @@ VecX RigidBody::discrete_gradient(const VecX& qn, const VecX&, MatX* dv_dqn1) co
   return gradient(qn);
 }
 
+void RigidBody::add_discrete_gradient(const VecX&, const VecX&, VecX& dv, MatX* dv_dqn1) const {
+  if (dv_dqn1) dv_dqn1->setZero(12, 12);
+  dv.head<3>() += -m_ * g_;  // gradient(): gravity only, constant
+}
+
 MatX RigidBody::mass() const {
   VecX d(12);
   d << Vec3::Constant(m_), Vec3::Constant(E_(0)), Vec3::Constant(E_(1)), Vec3::Constant(E_(2));

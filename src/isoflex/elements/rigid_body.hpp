@@ -16,6 +16,8 @@ class RigidBody final : public Element {
   double potential(const VecX& q) const override;
   VecX gradient(const VecX& q) const override;
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
+  void add_discrete_gradient(const VecX& qn, const VecX& qn1, VecX& dv,
+                             MatX* dv_dqn1) const override;
   MatX mass() const override;
   // Gravity is linear in q: ∂DV/∂qₙ₊₁ = 0, an empty pattern.
   SpMat pattern() const override { return SpMat(12, 12); }

@@ -120,21 +120,26 @@ bool BlockLU::factorize(const std::vector<Small>& values) {
 }
 
 VecX BlockLU::solve(const VecX& b) const {
-  VecX y = b;
+  VecX x;
+  solve(b, x);
+  return x;
+}
+
+void BlockLU::solve(const VecX& b, VecX& y) const {
+  using Part = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+  y = b;
   for (const Pivot& p : order_) {
-    const auto yv = y.segment(offset_[p.group], width_[p.group]).eval();
+    const Part yv = y.segment(offset_[p.group], width_[p.group]);
     for (const auto& [i, li] : p.lower)
       y.segment(offset_[i], width_[i]).noalias() -= blocks_[li] * yv;
   }
   for (std::size_t k = order_.size(); k-- > 0;) {
     const Pivot& p = order_[k];
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> s =
-        y.segment(offset_[p.group], width_[p.group]);
+    Part s = y.segment(offset_[p.group], width_[p.group]);
     for (const auto& [j, uj] : p.upper)
       s.noalias() -= blocks_[uj] * y.segment(offset_[j], width_[j]);
     y.segment(offset_[p.group], width_[p.group]) = inverse_[k] * s;
   }
-  return y;
 }
 
 }  // namespace isoflex::integrate

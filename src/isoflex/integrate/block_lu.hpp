@@ -25,6 +25,7 @@ class BlockLU {
   // to largest LU pivot is below 1e-12.
   bool factorize(const std::vector<Small>& values);
   VecX solve(const VecX& b) const;
+  void solve(const VecX& b, VecX& x) const;  // the same into x (no allocation once sized)
   int size() const { return size_; }
   int filled_blocks() const { return static_cast<int>(blocks_.size()); }
 

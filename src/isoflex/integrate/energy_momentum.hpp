@@ -91,13 +91,17 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
     bool blocks = false;  // A in the fixed pattern of blocks_
     VecX qm, q1, u;
   };
-  VecX evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  // The residual and the correction are kept workspaces (valid until the next call): the block
+  // path's Newton iteration allocates nothing.
+  const VecX& evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  VecX evaluate_assembled(const StepContext& c, const VecX& x, NewtonMatrix* J,
+                          bool bordered) const;  // every path but the blocks
   // Numerical dissipation (model::Solver::numerical_dissipation, docs/theory/schemes.md §10): on
   // from the second step (it needs qₙ₋₁, kept in State::q_prev); the elements' f_d and its
   // ∂f_d/∂qₙ₊₁ (K, if not null, += it).
   bool dissipating(const State& s) const;
   VecX dissipative_force(const State& s, const VecX& q1, double dt, system::SpMat* K) const;
-  VecX correction(const NewtonMatrix& J, const VecX& R) const;
+  const VecX& correction(const NewtonMatrix& J, const VecX& R) const;
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;
@@ -127,6 +131,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // unchanged (a cache; an integrator is not shared between threads).
   mutable solve::NormalEquations normal_equations_;
   mutable solve::FixedPatternLU newton_lu_;  // keeps its column ordering while J keeps its pattern
+  mutable VecX residual_, correction_, minus_residual_;  // workspaces of evaluate and correction
   std::optional<system::TreeNewtonSolver> tree_;
   std::optional<ReducedNewtonMatrix> blocks_;
 };

@@ -87,19 +87,21 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
   // Growth is measured from the first residual (after the min_corrections, whose start may be
   // converged already).
   const auto divergence_base = [&] { return std::max(out.first_residual, 1e-300); };
+  // The residual, kept across iterations: one the caller returns by reference (a workspace of
+  // its own) is copied into this storage, so that an iteration need not allocate.
+  VecX R;
   auto evaluate = [&](bool with_matrix, int it, bool record) {
     try {
-      const VecX R = residual(with_matrix);
+      R = residual(with_matrix);
       out.residual = R.size() ? R.template lpNorm<Eigen::Infinity>() : 0.0;
       if (history && record) history->push_back(out.residual);
-      return R;
     } catch (const NewtonFailure&) {
       throw;
     } catch (const std::bad_alloc&) {
       throw;  // out of memory ends the run (app/commands.cpp), no smaller step would fit better
     } catch (const std::runtime_error& e) {
       out.reason = fmt::format("evaluation failed at Newton iteration {}: {}", it, e.what());
-      return VecX();
+      R.resize(0);
     }
   };
   for (int it = 0;; ++it) {
@@ -108,7 +110,7 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     if (with_matrix && opt.predict_last_matrix && it >= 2 && r_prev2 > 0.0)
       with_matrix = !(r_prev < r_prev2 && r_prev * (r_prev / r_prev2) * (r_prev / r_prev2) <=
                                               opt.residual_tolerance * out.scale);
-    const VecX R = evaluate(with_matrix, it, true);
+    evaluate(with_matrix, it, true);
     if (!out.reason.empty()) return out;
     out.scale = scale();
     if (it == opt.min_corrections) {
@@ -125,8 +127,10 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     }
     if (it == opt.max_iterations) break;
     if (!with_matrix) {  // the prediction failed: the matrix after all, at the same iterate
+      const VecX kept = R;
       evaluate(true, it, false);
       if (!out.reason.empty()) return out;
+      R = kept;
     }
     r_prev2 = r_prev;
     r_prev = out.residual;

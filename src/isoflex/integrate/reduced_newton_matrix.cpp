@@ -209,20 +209,38 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
     for (int c = 0; c < G_pattern_.outerSize(); ++c)
       for (int a = o[c]; a < o[c + 1]; ++a)
         for (int b = o[c]; b < o[c + 1]; ++b) ta.emplace_back(in[a], in[b], 1.0);
-    GGt_pattern_.resize(G_pattern_.rows(), G_pattern_.rows());
-    GGt_pattern_.setFromTriplets(ta.begin(), ta.end());
-    GGt_pattern_.makeCompressed();
-    GGt_pattern_.coeffs().setZero();
-    const int* ao = GGt_pattern_.outerIndexPtr();
-    const int* ai = GGt_pattern_.innerIndexPtr();
+    SpMat full(G_pattern_.rows(), G_pattern_.rows());
+    full.setFromTriplets(ta.begin(), ta.end());
+    full.makeCompressed();
+    // The ordering of FixedPatternLDLT (AMD on the pattern), and where each entry of the lower
+    // triangle it reads lands in the upper triangle of the permuted matrix: entries marked by
+    // their index, permuted as its factorization permutes them.
+    {
+      Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> amd;
+      amd.analyzePattern(full);
+      ggt_perm_ = amd.permutationP();
+      ggt_perm_inv_ = amd.permutationPinv();
+    }
+    for (int k = 0; k < full.nonZeros(); ++k) full.valuePtr()[k] = k + 1.0;
+    GGt_.resize(full.rows(), full.cols());
+    GGt_.selfadjointView<Eigen::Upper>() =
+        full.selfadjointView<Eigen::Lower>().twistedBy(ggt_perm_);
+    GGt_.makeCompressed();
+    std::vector<int> permuted_slot(full.nonZeros(), -1);  // entry of `full` → slot in GGt_
+    for (int k = 0; k < GGt_.nonZeros(); ++k)
+      permuted_slot[static_cast<int>(GGt_.valuePtr()[k]) - 1] = k;
+    const int* ao = full.outerIndexPtr();
+    const int* ai = full.innerIndexPtr();
     for (int c = 0; c < G_pattern_.outerSize(); ++c)
       for (int a = o[c]; a < o[c + 1]; ++a)
         for (int b = o[c]; b < o[c + 1]; ++b) {
+          if (in[a] < in[b]) continue;  // the upper triangle, not read by the LDLᵀ
           const int col = in[b];
           const int* e = std::lower_bound(ai + ao[col], ai + ao[col + 1], in[a]);
-          products_.push_back({a, b, static_cast<int>(e - ai)});
+          products_.push_back({a, b, permuted_slot[static_cast<std::size_t>(e - ai)]});
         }
-    GGt_ = GGt_pattern_;
+    GGt_.coeffs().setZero();
+    ldlt_.analyzePattern(GGt_);
   }
 }
 
@@ -279,17 +297,10 @@ void ReducedNewtonMatrix::twist_blocks(const VecX& q, std::vector<std::vector<Tw
   }
 }
 
-VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
-                                   double t_mid, solve::NormalEquations& normal,
-                                   SpMat* Jout) const {
-  const int n = sys_.n(), N = sys_.node_count();
-  const VecX q1 = sys_.update(qn, u);  // (14), (37)
-  const VecX qm = 0.5 * (qn + q1);
-  const VecX v1 = (2.0 / dt) * (q1 - qn) - vn;
-
+void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, double t_mid,
+                                bool want) const {
   // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t_{n+½}) as System::discrete_force, with the node blocks of
-  // K̂ = (2/Δt) M + Δt ∂f/∂qₙ₊₁ (+ ½Δt Σ λ̂ᵢ Hᵢ below) added straight into the pattern.
-  const bool want = Jout != nullptr;
+  // K̂ = (2/Δt) M + Δt ∂f/∂qₙ₊₁ (+ ½Δt Σ λ̂ᵢ Hᵢ in evaluate) added straight into the pattern.
   if (want) {
     K_.resize(pairs_.size());
     // (2/Δt) M of the pairs, kept while Δt is the same (the same products every iteration).
@@ -300,7 +311,8 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     }
     K_ = scaled_mass_;
   }
-  VecX f = VecX::Zero(n);
+  VecX& f = f_;
+  f.setZero(sys_.n());
   MatX& Ke = Ke_;
   const auto& elements = sys_.elements();
   for (std::size_t e = 0; e < elements.size(); ++e) {
@@ -328,7 +340,9 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
       a.segment<12>(12 * i) = qn.segment<12>(12 * nodes[i]);
       b.segment<12>(12 * i) = q1.segment<12>(12 * nodes[i]);
     }
-    const VecX dv = elements[e]->discrete_gradient(a, b, want ? &Ke : nullptr);
+    VecX& dv = element_dv_;
+    dv.setZero(12 * ne);
+    elements[e]->add_discrete_gradient(a, b, dv, want ? &Ke : nullptr);
     for (int i = 0; i < ne; ++i) {
       f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
       if (want)
@@ -340,10 +354,12 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
   for (std::size_t l = 0; l < sys_.loads().size(); ++l) {
     const loads::Load& L = *sys_.loads()[l];
     const std::vector<int>& nodes = L.nodes();
-    VecX x(12 * nodes.size());
+    VecX &x = a_, &g = b_;
+    x.resize(12 * static_cast<int>(nodes.size()));
     for (std::size_t i = 0; i < nodes.size(); ++i)
       x.segment<12>(12 * i) = 0.5 * (qn.segment<12>(12 * nodes[i]) + q1.segment<12>(12 * nodes[i]));
-    const VecX g = L.generalized_force(x, t_mid);
+    g.setZero(x.size());
+    L.add_generalized_force(x, t_mid, g);
     for (std::size_t i = 0; i < nodes.size(); ++i)
       f.segment<12>(12 * nodes[i]) -= g.segment<12>(12 * i);
     if (!want || load_entries_[l].empty()) continue;
@@ -354,12 +370,9 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
       K_[e.pair](e.row, e.col) += tangent[k];
     }
   }
-  const VecX r0 = sys_.mass() * (v1 - vn) + dt * f;
-  const VecX R = sys_.reduce(qm, r0);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
-  if (!want) return R;
+}
 
-  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) and ½Δt Σ λ̂ᵢ Hᵢ.
-  // 𝖦 = G(q_{n+½}) of the selected rows ((22), joint Jacobians) written into its pattern.
+bool ReducedNewtonMatrix::midpoint_jacobian(const VecX& qm) const {
   double* gv = G_.valuePtr();
   bool outside = false;  // a nonzero outside the pattern of 𝖦
   const auto put = [&](int slot, double value) {
@@ -368,28 +381,84 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     else if (slot == kOutside && value != 0.0)
       outside = true;
   };
-  for (int i = 0; i < N; ++i) {
+  for (int i = 0; i < sys_.node_count(); ++i) {
     const Mat<6, 12> Gi = fn::jacobian(qm.segment<12>(12 * i));
     const int* sl = &node_slots_[72 * i];
     for (int e = 0; e < 72; ++e) put(sl[e], Gi.data()[e]);  // column-major, as the slots
   }
   for (std::size_t j = 0; j < sys_.joints().size(); ++j) {
     const auto& J = sys_.joints()[j];
-    const MatX Gj = J.frame->jacobian(sys_.node_q(qm, J.parent), sys_.node_q(qm, J.child));
+    const joints::FrameJoint::Rows Gj =
+        J.frame->fixed_jacobian(fn::Q(sys_.node_q(qm, J.parent)), fn::Q(sys_.node_q(qm, J.child)));
     const int m = J.frame->constraint_count();
     const int* sl = &joint_slots_[joint_first_slot_[j]];
     for (int c = 0; c < 24; ++c)
       for (int r = 0; r < m; ++r) put(sl[m * c + r], Gj(r, c));
   }
-  VecX lambda;
-  if (outside) {
+  return !outside;
+}
+
+void ReducedNewtonMatrix::solve_normal(const VecX& rhs, VecX& lambda) const {
+  double* av = GGt_.valuePtr();
+  std::fill(av, av + GGt_.nonZeros(), 0.0);
+  const double* gv = G_.valuePtr();
+  for (const Product& p : products_) av[p.target] += gv[p.a] * gv[p.b];
+  if (!ldlt_.factorize_ordered(GGt_)) throw std::runtime_error("matrix not positive definite");
+  // Π rhs, the LDLᵀ solve, Πᵀ: SimplicialLDLT's own steps around its factor.
+  const int m = static_cast<int>(rhs.size());
+  permuted_.resize(m);
+  for (int i = 0; i < m; ++i) permuted_(ggt_perm_.indices()(i)) = rhs(i);
+  solved_.resize(m);
+  ldlt_._solve_impl(permuted_, solved_);
+  lambda.resize(m);
+  for (int i = 0; i < m; ++i) lambda(ggt_perm_inv_.indices()(i)) = solved_(i);
+}
+
+bool ReducedNewtonMatrix::multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt,
+                                      double t_mid, solve::NormalEquations& normal, VecX& lambda,
+                                      double& mismatch) const {
+  if (!midpoint_jacobian(0.5 * (qn + q1))) return false;
+  force(qn, q1, dt, t_mid, false);
+  const VecX v1 = (2.0 / dt) * (q1 - qn) - vn;
+  const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - vn)) + f_;
+  const VecX rhs = -(G_ * r);
+  bool solved = false;
+  try {
+    solve_normal(rhs, lambda);
+    solved = lambda.allFinite();
+  } catch (const std::runtime_error&) {
+  }
+  if (!solved) lambda = normal.solve(G_, rhs);  // pivoted QR; throws where 𝖦 is rank deficient
+  mismatch = (r + G_.transpose() * lambda).lpNorm<Eigen::Infinity>();
+  return true;
+}
+
+const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
+                                          double t_mid, solve::NormalEquations& normal,
+                                          SpMat* Jout) const {
+  // Every vector is a kept workspace: an iteration allocates nothing.
+  const int N = sys_.node_count();
+  VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
+  sys_.update(qn, u, q1, steps_);  // (14), (37)
+  qm = 0.5 * (qn + q1);
+  v1 = (2.0 / dt) * (q1 - qn) - vn;
+  const bool want = Jout != nullptr;
+  force(qn, q1, dt, t_mid, want);
+  dv_ = v1 - vn;
+  r0.noalias() = sys_.mass() * dv_;
+  r0 += dt * f_;
+  sys_.reduce(qm, r0, R_, y_);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
+  if (!want) return R_;
+
+  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) and ½Δt Σ λ̂ᵢ Hᵢ.
+  VecX& lambda = lambda_;
+  if (!midpoint_jacobian(qm)) {
     const SpMat Gm = sys_.jacobian(qm);
     lambda = normal.solve(Gm, -(Gm * r0) / dt);
   } else {
-    double* av = GGt_.valuePtr();
-    std::fill(av, av + GGt_.nonZeros(), 0.0);
-    for (const Product& p : products_) av[p.target] += gv[p.a] * gv[p.b];
-    lambda = ldlt_.solve(GGt_, -(G_ * r0) / dt);
+    rhs_.noalias() = G_ * r0;
+    rhs_ = -rhs_ / dt;
+    solve_normal(rhs_, lambda);
   }
   VecX& l = l_;
   l.setZero(sys_.m_all());
@@ -474,10 +543,11 @@ VecX ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u
     for (int c = 0; c < B.cols(); ++c)
       for (int r = 0; r < B.rows(); ++r) values[slot[c] + r] = B(r, c);
   }
-  return R;
+  return R_;
 }
 
-VecX ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+  VecX& x = x_;
   if (J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k()) {
     const double* v = J.valuePtr();
     for (std::size_t k = 0; k < jblocks_.size(); ++k) {
@@ -488,15 +558,17 @@ VecX ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
         for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
     }
     if (block_lu_.factorize(values_)) {
-      VecX x = block_lu_.solve(b);
+      block_lu_.solve(b, x);
       // No pivoting across blocks: accept the solution by its residual.
-      if (x.allFinite() &&
-          (J * x - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>())
-        return x;
+      if (x.allFinite()) {
+        check_.noalias() = J * x;
+        if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
+      }
     }
   }
   ++fallbacks_;
-  return lu_.solve(J, b);
+  x = lu_.solve(J, b);
+  return x;
 }
 
 }  // namespace isoflex::integrate

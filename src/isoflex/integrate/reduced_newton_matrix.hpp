@@ -16,6 +16,7 @@
 // products per node pair and numeric factorizations. R is the leaves-to-root
 // sweep System::reduce, so 𝖯 is never formed. For shallow forests (a beam's nodes are roots of
 // their own) J stays sparse; for deep trees (chains) it fills in as 𝖯 does.
+#include <Eigen/SparseCholesky>
 #include <vector>
 
 #include "isoflex/elements/beam_element.hpp"
@@ -37,11 +38,21 @@ class ReducedNewtonMatrix {
   // R(u) for the step from (qₙ, vₙ); J (if not null) receives the Newton matrix (k × k, compressed,
   // always the same pattern). λ̂ of K̂ by least squares from r₀ ≈ −Δt 𝖦ᵀλ; `normal` only if 𝖦
   // has a nonzero outside its fixed pattern (then 𝖦 = System::jacobian).
-  VecX evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
-                solve::NormalEquations& normal, system::SpMat* J) const;
+  // The reference is to a kept workspace, valid until the next call: an iteration (evaluate and
+  // solve) allocates nothing once the first has sized the workspaces.
+  const VecX& evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
+                       solve::NormalEquations& normal, system::SpMat* J) const;
+  // The multipliers of the selected rows for the step qₙ → q1 (State::lambda; what
+  // EnergyMomentumIntegrator::step_multipliers computes through System): the least-squares
+  // solution of 𝖦ᵀλ = −r, r = (1/Δt) M (vₙ₊₁ − vₙ) + f (DNSM-III (9)), with 𝖦 = G(q_{n+½}) in its
+  // fixed pattern and 𝖦𝖦ᵀ by the kept LDLᵀ (`normal`: its pivoted QR where that fails).
+  // mismatch: ‖r + 𝖦ᵀλ‖∞. False (nothing written) if 𝖦 has a nonzero outside its pattern; throws
+  // std::runtime_error where 𝖦 is rank deficient.
+  bool multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt, double t_mid,
+                   solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
   // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
-  VecX solve(const system::SpMat& J, const VecX& b) const;
+  const VecX& solve(const system::SpMat& J, const VecX& b) const;
   const system::SpMat& pattern() const { return pattern_; }
   int analyses() const { return lu_.analyses(); }  // symbolic analyses of the sparse LU so far
   int fallbacks() const { return fallbacks_; }     // solves that needed the sparse LU
@@ -65,6 +76,12 @@ class ReducedNewtonMatrix {
   };
 
   int pair(int i, int j) const;  // index into pairs_, −1 if K̂ does not couple i and j
+  // f = DV(qₙ, q₁) − f_ext(q_{n+½}, t_{n+½}) into f_ (System::discrete_force); with `want` the
+  // node blocks of (2/Δt) M + Δt ∂f/∂q₁ into K_.
+  void force(const VecX& qn, const VecX& q1, double dt, double t_mid, bool want) const;
+  // 𝖦 = G(q_{n+½}) of the selected rows ((22), joint Jacobians) into G_; false if an entry
+  // outside its fixed pattern is nonzero.
+  bool midpoint_jacobian(const VecX& qm) const;
   // E(q) node blocks along the paths (path_[i] order), (57).
   void twist_blocks(const VecX& q, std::vector<std::vector<Twist>>& E) const;
 
@@ -90,24 +107,42 @@ class ReducedNewtonMatrix {
   // internal constraints and the m × 24 blocks of the joints (−1: ground or unselected row).
   system::SpMat G_pattern_;
   std::vector<int> node_slots_, joint_slots_, joint_first_slot_;
-  // 𝖦𝖦ᵀ of the normal equations for λ̂ in a fixed pattern: A[target] += G[a]·G[b].
+  // 𝖦𝖦ᵀ of the normal equations for λ̂, assembled straight into the upper triangle of its
+  // permuted form C = Π 𝖦𝖦ᵀ Πᵀ, Π the AMD ordering FixedPatternLDLT would compute:
+  // C[target] += G[a]·G[b]. The factorization then neither copies nor permutes, allocates
+  // nothing, and does FixedPatternLDLT's arithmetic.
   struct Product {
     int a, b, target;
   };
-  system::SpMat GGt_pattern_;
   std::vector<Product> products_;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> ggt_perm_, ggt_perm_inv_;
+  // SimplicialLDLT on a matrix already ordered, its numeric factorization in place.
+  class PreorderedLDLT
+      : public Eigen::SimplicialLDLT<system::SpMat, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+   public:
+    bool factorize_ordered(const system::SpMat& C) {
+      this->template factorize_preordered<true>(C);
+      return this->info() == Eigen::Success;
+    }
+  };
+  // Π 𝖦𝖦ᵀ Πᵀ (upper) into GGt_, LDLᵀ, λ of 𝖦𝖦ᵀ λ = rhs into lambda; throws std::runtime_error
+  // if the factorization fails (as FixedPatternLDLT).
+  void solve_normal(const VecX& rhs, VecX& lambda) const;
   // Workspace and the kept LU (caches; an integrator is not shared between threads).
   mutable std::vector<Block> K_;
   mutable Mat<24, 24> beam_K_;
   mutable std::vector<Block> scaled_mass_;  // (2/Δt) M of the pairs at Δt = scaled_mass_dt_
   mutable double scaled_mass_dt_ = 0.0;
   mutable MatX Ke_;
-  mutable VecX a_, b_, l_;
+  mutable VecX a_, b_, l_, f_, element_dv_, q1_, qm_, v1_, dv_, r0_, R_, y_, rhs_, lambda_, x_,
+      check_;
+  mutable std::vector<Mat3> steps_;
   mutable std::vector<double> tangent_;
   mutable std::vector<Mat3> T_;
   mutable std::vector<Mat<12, 6>> Pm_, P1_;
   mutable system::SpMat G_, GGt_;
-  mutable solve::FixedPatternLDLT ldlt_;
+  mutable PreorderedLDLT ldlt_;
+  mutable VecX permuted_, solved_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
   mutable std::vector<Small> J_;
   mutable BlockLU block_lu_;

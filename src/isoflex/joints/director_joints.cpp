@@ -162,14 +162,14 @@ Mat<6, 6> ShellIntersection::parent_block(CRef, CRef) const {
   return Mat<6, 6>::Identity();
 }
 
-MatX ShellIntersection::freedom_block(CRef qa, CRef) const {
+FreedomBlock ShellIntersection::freedom_block(CRef qa, CRef) const {
   MatX B = MatX::Zero(6, 1);
   B.block<3, 1>(3, 0) = director(qa);
   return B;
 }
 
-VecX ShellIntersection::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                               Mat3* step_b) const {
+NodeVec ShellIntersection::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                                  Mat3* step_b) const {
   assert(tau.size() == 1);
   // B turns with A's full step rotation Q_A (drilling about d_A included: it turns d_B) and then
   // by τ about d_A,n+1. With d_A,n+1 = Q_A d_A,n, d_A·d_B keeps its value η:
@@ -181,7 +181,7 @@ VecX ShellIntersection::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, 
   return qb;
 }
 
-MatX ShellIntersection::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef) const {
+FreedomBlock ShellIntersection::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef) const {
   // ∂/∂τ exp(τ â) = â exp(τ â) for the fixed axis a = d_A,n+1 (T(τa) a = a): the continuous block.
   return freedom_block(qa_n1, qb_n1);
 }
@@ -222,12 +222,12 @@ Mat<6, 6> DirectorOnFrame::parent_block(CRef qa, CRef) const {
   return A;
 }
 
-MatX DirectorOnFrame::freedom_block(CRef, CRef) const {
+FreedomBlock DirectorOnFrame::freedom_block(CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 
-VecX DirectorOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
-                             Mat3* step_b) const {
+NodeVec DirectorOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
+                                Mat3* step_b) const {
   assert(tau.size() == 0);
   (void)tau;
   // From A's configuration at t_{n+1} directly (not Q_A d_B,n): no round-off drift of the rows.
@@ -239,7 +239,7 @@ VecX DirectorOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef ta
   return qb;
 }
 
-MatX DirectorOnFrame::update_freedom_block(CRef, CRef, CRef, CRef) const {
+FreedomBlock DirectorOnFrame::update_freedom_block(CRef, CRef, CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 
@@ -277,15 +277,15 @@ Mat<6, 6> FrameOnDirector::parent_block(CRef, CRef qb) const {
   return A;
 }
 
-MatX FrameOnDirector::freedom_block(CRef qa, CRef qb) const {
+FreedomBlock FrameOnDirector::freedom_block(CRef qa, CRef qb) const {
   const Vec3 d = director(qa);
   MatX B(6, 1);
   B << body_vector(qb, X_B_).cross(d), d;
   return B;
 }
 
-VecX FrameOnDirector::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                             Mat3* step_b) const {
+NodeVec FrameOnDirector::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                                Mat3* step_b) const {
   assert(tau.size() == 1);
   // As for the intersection: R_B,n+1 = exp(τ d̂_A,n+1) Q_A R_B,n keeps (R_B e)·d_A at its value
   // (Q_A d_A,n = d_A,n+1), and B's material point is put back on the node.
@@ -295,7 +295,7 @@ VecX FrameOnDirector::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CR
   return fn::make(qa_n1.head<3>() - Rb * X_B_, Rb);
 }
 
-MatX FrameOnDirector::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef) const {
+FreedomBlock FrameOnDirector::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef) const {
   return freedom_block(qa_n1, qb_n1);  // fixed axis d_A,n+1, as ShellIntersection
 }
 
@@ -371,7 +371,7 @@ Mat<6, 6> DirectorSupport::parent_block(CRef, CRef) const {
   return Mat<6, 6>::Zero();
 }
 
-MatX DirectorSupport::freedom_block(CRef, CRef qb) const {
+FreedomBlock DirectorSupport::freedom_block(CRef, CRef qb) const {
   // Translations along the free e_i (rows e_jᵀφ for the fixed j ≠ i see nothing); rotations that
   // keep the director rows: ω = θ̇₁ d₂ − θ̇₂ d₁ (45) with the basis at the given q (free), ω = n
   // ((n × d)·n = 0, about_axis).
@@ -398,7 +398,7 @@ Vec<5> DirectorSupport::root_increment(CRef tau) const {
   return u;
 }
 
-VecX DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Mat3* step_b) const {
+NodeVec DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Mat3* step_b) const {
   assert(tau.size() == freedom_count());
   // φ_B,n+1 = φ_B,n + Σ τ_i e_i leaves the fixed components untouched (bit for bit).
   const Vec<5> u = root_increment(tau);
@@ -424,7 +424,8 @@ VecX DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Mat3*
   return VecX(qb_n);
 }
 
-MatX DirectorSupport::update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const {
+FreedomBlock DirectorSupport::update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1,
+                                                   CRef tau) const {
   if (spec_.director != DirectorCondition::free) {
     return freedom_block(qa_n1, qb_n1);  // fixed axis n: T(τn) n = n
   }

@@ -76,10 +76,10 @@ class ShellIntersection final : public Joint {
   MatX jacobian(CRef qa, CRef qb) const override;
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   detail::QuadraticRows<12> rows_;
@@ -102,10 +102,10 @@ class DirectorOnFrame final : public Joint {
   MatX jacobian(CRef qa, CRef qb) const override;
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   detail::QuadraticRows<18> rows_;
@@ -128,10 +128,10 @@ class FrameOnDirector final : public Joint {
   MatX jacobian(CRef qa, CRef qb) const override;
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   detail::QuadraticRows<18> rows_;
@@ -170,10 +170,10 @@ class DirectorSupport final : public Joint {
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   // Zero: the rows are fixed in space (the ground does not move).
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   int rotation_count() const;

@@ -117,9 +117,13 @@ VecX FrameJoint::constraints(CRef qa, CRef qb) const {
 }
 
 MatX FrameJoint::jacobian(CRef qa, CRef qb) const {
+  return fixed_jacobian(Q(qa), Q(qb));
+}
+
+FrameJoint::Rows FrameJoint::fixed_jacobian(const Q& qa, const Q& qb) const {
   const Vec<24> q = stack(qa, qb);
   const L lr = relative_point_map(g_.X_A, g_.X_B);
-  MatX G(m_, 24);
+  Rows G(m_, 24);
   int row = 0;
   if (point_rows_) G.middleRows<3>(row) = lr, row += 3;
   for (auto [i, j] : frame_rows_) {
@@ -149,32 +153,46 @@ void FrameJoint::add_constraint_hessian(CRef lambda, Mat<24, 24>& H) const {
   }
 }
 
-std::vector<Vec3> FrameJoint::translation_directions(const Mat3& a) const {
+namespace {
+using Directions = FrameJoint::Directions;
+Directions columns(const Vec3& x) {
+  Directions d(3, 1);
+  d.col(0) = x;
+  return d;
+}
+Directions columns(const Vec3& x, const Vec3& y) {
+  Directions d(3, 2);
+  d << x, y;
+  return d;
+}
+}  // namespace
+
+Directions FrameJoint::translation_directions(const Mat3& a) const {
   // Directions orthogonal to the constrained a_i for every q, not only on the manifold.
   switch (kind_) {
     case Kind::prismatic:
     case Kind::cylindrical:
     case Kind::point_on_line:
-      return {a.col(0).cross(a.col(1))};
+      return columns(a.col(0).cross(a.col(1)));
     case Kind::planar:
-      return {a.col(2).cross(a.col(0)), a.col(1).cross(a.col(2))};
+      return columns(a.col(2).cross(a.col(0)), a.col(1).cross(a.col(2)));
     default:
-      return {};
+      return Directions(3, 0);
   }
 }
 
 namespace {
 // Relative rotation axes (ω_B = ω_A + Σ axis τ) of a joint.
-std::vector<Vec3> relative_axes(Kind kind, const Mat3& a, const Mat3& b) {
+Directions relative_axes(Kind kind, const Mat3& a, const Mat3& b) {
   switch (kind) {
     case Kind::revolute:
     case Kind::cylindrical:
     case Kind::planar:
-      return {a.col(2)};
+      return columns(a.col(2));
     case Kind::universal:
-      return {a.col(0), b.col(1)};
+      return columns(a.col(0), b.col(1));
     default:
-      return {};
+      return Directions(3, 0);
   }
 }
 bool absolute_rotation(Kind kind) {
@@ -193,9 +211,9 @@ Mat<6, 6> FrameJoint::parent_block(CRef qa, CRef qb) const {
   return A;
 }
 
-MatX FrameJoint::freedom_block(CRef qa, CRef qb) const {
+FreedomBlock FrameJoint::freedom_block(CRef qa, CRef qb) const {
   const FrameVectors v = vectors(qa, qb);
-  MatX B = MatX::Zero(6, r_);
+  FreedomBlock B = FreedomBlock::Zero(6, r_);
   int col = 0;
   const Mat3 rb = skew(v.rho_b);
   if (absolute_rotation(kind_)) {
@@ -203,18 +221,25 @@ MatX FrameJoint::freedom_block(CRef qa, CRef qb) const {
     B.block<3, 3>(3, 0).setIdentity();
     col = 3;
   }
-  for (const Vec3& axis : relative_axes(kind_, v.a, v.b)) {
-    B.block<3, 1>(0, col) = rb * axis;
-    B.block<3, 1>(3, col) = axis;
+  const Directions axes = relative_axes(kind_, v.a, v.b);
+  for (int k = 0; k < axes.cols(); ++k) {
+    B.block<3, 1>(0, col) = rb * axes.col(k);
+    B.block<3, 1>(3, col) = axes.col(k);
     ++col;
   }
-  for (const Vec3& t : translation_directions(v.a)) B.block<3, 1>(0, col++) = t;
+  const Directions slides = translation_directions(v.a);
+  for (int k = 0; k < slides.cols(); ++k) B.block<3, 1>(0, col++) = slides.col(k);
   assert(col == r_);
   return B;
 }
 
 FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n,
                                  const VecX& tau, Mat3* step_b) const {
+  return fixed_update(qa_n, qa_n1, QA, qb_n, tau, step_b);
+}
+
+FrameJoint::Q FrameJoint::fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n,
+                                       CRef tau, Mat3* step_b) const {
   assert(tau.size() == r_);
   const FrameVectors vn = vectors(qa_n, qb_n);
   const Mat3 Rb_n = fn::directors(qb_n);
@@ -247,7 +272,8 @@ FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, 
   for (int i = 0; i < 3; ++i) a_n1.col(i) = body_vector(qa_n1, g_.C_A.col(i));
   Vec3 x_b = fn::phi(qa_n1) + body_vector(qa_n1, g_.X_A);
   if (slides_) x_b += QA * vn.r;
-  for (const Vec3& t : translation_directions(a_n1)) x_b += tau(k++) * t;
+  const Directions slides = translation_directions(a_n1);
+  for (int c = 0; c < slides.cols(); ++c) x_b += tau(k++) * slides.col(c);
   assert(k == r_);
   return fn::make(x_b - Rb * g_.X_B, Rb);
 }
@@ -258,13 +284,13 @@ void FrameJoint::add_constraint_hessian(CRef lambda, MatX& H) const {
   H += h;
 }
 
-VecX FrameJoint::update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                        Mat3* step_b) const {
-  return update(Q(qa_n), Q(qa_n1), step_a, Q(qb_n), VecX(tau), step_b);
+NodeVec FrameJoint::update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                           Mat3* step_b) const {
+  return fixed_update(Q(qa_n), Q(qa_n1), step_a, Q(qb_n), tau, step_b);
 }
 
-MatX FrameJoint::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef tau) const {
-  MatX B = freedom_block(qa_n1, qb_n1);
+FreedomBlock FrameJoint::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef tau) const {
+  FreedomBlock B = freedom_block(qa_n1, qb_n1);
   if (rotvec_ >= 0)
     B.middleCols<3>(rotvec_) =
         B.middleCols<3>(rotvec_) * rodrigues_tangent(Vec3(tau.segment<3>(rotvec_)));

@@ -40,6 +40,8 @@ struct FrameJointGeometry {
 class FrameJoint final : public Joint {
  public:
   using Q = frame_node::Q;
+  // Up to two directions, the columns (joint axes, slide directions; no heap allocation).
+  using Directions = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, 2>;
   FrameJoint(Kind kind, const FrameJointGeometry& g);
 
   Kind kind() const { return kind_; }
@@ -52,7 +54,9 @@ class FrameJoint final : public Joint {
   int rotation_vector_offset() const { return rotvec_; }
 
   VecX constraints(CRef qa, CRef qb) const override;
-  // [∂Φ/∂q_A, ∂Φ/∂q_B], m × 24.
+  // [∂Φ/∂q_A, ∂Φ/∂q_B], m × 24 (m ≤ 6; the fixed-size form allocates nothing).
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::ColMajor, 6, 24>;
+  Rows fixed_jacobian(const Q& qa, const Q& qb) const;
   MatX jacobian(CRef qa, CRef qb) const override;
   // H += Σ λᵢ ∂²Φᵢ/∂(q_A,q_B)², 24 × 24 (constant).
   void add_constraint_hessian(CRef lambda, Mat<24, 24>& H) const;
@@ -60,7 +64,7 @@ class FrameJoint final : public Joint {
 
   // Velocity analysis: t_B = A t_A + B τ (t = (φ̇, ω)).
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;  // 6 × r
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;  // 6 × r
 
   // Update map: child configuration at t_{n+1} from the parent at t_n and t_{n+1}, the child at
   // t_n and the joint increments. ∂q_B/∂(t_A, τ) equals P_int(q_B) [A B] at t_{n+1} with θ-columns
@@ -68,9 +72,9 @@ class FrameJoint final : public Joint {
   // (Q_A R_A,n = R_A,n+1); `step_b` receives the child's.
   Q update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n, const VecX& tau,
            Mat3* step_b = nullptr) const;
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
   struct FrameVectors {
@@ -78,7 +82,9 @@ class FrameJoint final : public Joint {
     Mat3 a, b;  // columns a_k, b_k
   };
   FrameVectors vectors(const Q& qa, const Q& qb) const;
-  std::vector<Vec3> translation_directions(const Mat3& a) const;
+  Q fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n, CRef tau,
+                 Mat3* step_b) const;  // update() without copying τ
+  Directions translation_directions(const Mat3& a) const;
 
   Kind kind_;
   FrameJointGeometry g_;

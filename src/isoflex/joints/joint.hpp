@@ -24,6 +24,10 @@ namespace isoflex::joints {
 using isoflex::coordinate_count;
 using isoflex::NodeKind;
 
+// 6 × r blocks of the velocity analysis (r ≤ 6); a child's coordinates are a NodeVec (≤ 12):
+// fixed maximum sizes, so that the tree sweeps of every Newton iteration allocate nothing.
+using FreedomBlock = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+
 class Joint {
  public:
   using CRef = Eigen::Ref<const VecX>;
@@ -42,18 +46,18 @@ class Joint {
 
   // Velocity analysis t_B = A t_A + B τ.
   virtual Mat<6, 6> parent_block(CRef qa, CRef qb) const = 0;
-  virtual MatX freedom_block(CRef qa, CRef qb) const = 0;  // 6 × r
+  virtual FreedomBlock freedom_block(CRef qa, CRef qb) const = 0;  // 6 × r
 
   // Update map: the child at t_{n+1} from the parent at t_n and t_{n+1}, the parent's rotation
   // over the step Q_A (Q_A R_A,n = R_A,n+1 for a frame node; the rotation the tree applied to a
   // director node, drilling included), the child at t_n and the increments τ. `step_b` receives
   // the child's rotation over the step, for the joints below it.
-  virtual VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                      Mat3* step_b) const = 0;
+  virtual NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                         Mat3* step_b) const = 0;
   // ∂t_B/∂τ of the update map at (q_A,n+1, q_B,n+1), 6 × r: freedom_block at t_{n+1} with
   // rotation-vector columns multiplied by T(θ) (DNSM-III (37)) and director tangent bases taken
   // at t_n.
-  virtual MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const = 0;
+  virtual FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const = 0;
 };
 
 }  // namespace isoflex::joints

@@ -60,12 +60,12 @@ Mat<6, 6> PointOnFrame::parent_block(CRef qa, CRef) const {
   return A;
 }
 
-MatX PointOnFrame::freedom_block(CRef, CRef) const {
+FreedomBlock PointOnFrame::freedom_block(CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 
-VecX PointOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
-                          Mat3* step_b) const {
+NodeVec PointOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
+                             Mat3* step_b) const {
   assert(tau.size() == 0);
   (void)tau;
   // From A at t_{n+1} directly: the rows hold to round-off and do not drift. The derivative
@@ -75,7 +75,7 @@ VecX PointOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
   return phi;
 }
 
-MatX PointOnFrame::update_freedom_block(CRef, CRef, CRef, CRef) const {
+FreedomBlock PointOnFrame::update_freedom_block(CRef, CRef, CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 

@@ -31,10 +31,11 @@ class PointOnFrame final : public Joint {
   MatX jacobian(CRef qa, CRef qb) const override;  // constant: [−I, −X₁I, −X₂I, −X₃I, I]
   void add_constraint_hessian(CRef lambda, MatX& H) const override;  // adds nothing (linear rows)
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
-  MatX freedom_block(CRef qa, CRef qb) const override;  // 6 × 0
-  VecX update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-              Mat3* step_b) const override;
-  MatX update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;  // 6 × 0
+  FreedomBlock freedom_block(CRef qa, CRef qb) const override;  // 6 × 0
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const override;
+  FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1,
+                                    CRef tau) const override;  // 6 × 0
 
   const Vec3& body_point() const { return X_; }  // X, in A's body coordinates
 

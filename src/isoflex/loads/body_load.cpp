@@ -38,6 +38,10 @@ VecX BodyLoad::generalized_force(const VecX& x, double t) const {
   return generalized_force(Vec<12>(x), t);
 }
 
+void BodyLoad::add_generalized_force(const VecX& x, double t, VecX& g) const {
+  g += generalized_force(Vec<12>(x), t);
+}
+
 void BodyLoad::add_tangent(const VecX&, double t, double scale, double* values) const {
   Eigen::Map<Mat<12, 12>>(values) += scale * generalized_force_derivative(t);
 }

@@ -27,6 +27,7 @@ class BodyLoad : public Load {
   // The Load contract on the node's 12 coordinates; the tangent (moment only) is dense.
   const std::vector<int>& nodes() const override { return nodes_; }
   VecX generalized_force(const VecX& x, double t) const override;
+  void add_generalized_force(const VecX& x, double t, VecX& g) const override;
   bool follower() const override { return has_moment(); }
   void add_tangent(const VecX& x, double t, double scale, double* values) const override;
   // Generalized force (a 12-vector in the node coordinates) at configuration q and time t.

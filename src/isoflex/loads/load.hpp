@@ -27,6 +27,11 @@ class Load {
   virtual const std::vector<int>& nodes() const = 0;
   // f_ext(x, t), the generalized force on x.
   virtual VecX generalized_force(const VecX& x, double t) const = 0;
+  // g += f_ext(x, t) (g of x's size): a load that can overrides it without heap allocation (the
+  // fixed-pattern Newton iteration calls it in every evaluation).
+  virtual void add_generalized_force(const VecX& x, double t, VecX& g) const {
+    g += generalized_force(x, t);
+  }
   // Whether f_ext depends on x; only then are tangent_pattern and add_tangent used.
   virtual bool follower() const = 0;
   // The pattern of ∂f_ext/∂x over x (compressed, column-major); default: dense.

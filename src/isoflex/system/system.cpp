@@ -473,21 +473,25 @@ System::InputBlocks System::update_input_blocks(const VecX& qn, const VecX& q1,
   return in;
 }
 
-SpMat System::twist_map(const VecX& q, const InputBlocks& in) const {
-  // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
-  using Blocks = std::vector<std::pair<int, MatX>>;
-  std::vector<Blocks> rows(node_count());
+System::TwistBlocks System::twist_blocks(const VecX& q, const InputBlocks& in) const {
+  TwistBlocks rows(node_count());
   for (std::size_t r = 0; r < roots_.size(); ++r)
     rows[roots_[r]].push_back({root_nu_offset_[r], in.root[r]});
   for (int j : tree_order_) {
     const auto& J = joints_[j];
-    Blocks& out = rows[J.child];
+    auto& out = rows[J.child];
     if (J.parent >= 0) {
       const Mat<6, 6> A = J.joint->parent_block(node_q(q, J.parent), node_q(q, J.child));
       for (const auto& [c, B] : rows[J.parent]) out.push_back({c, A * B});
     }
     if (J.joint->freedom_count() > 0) out.push_back({J.nu_offset, in.joint[j]});
   }
+  return rows;
+}
+
+SpMat System::twist_map(const VecX& q, const InputBlocks& in) const {
+  // Each node's twist as a sum of blocks (first column in ν, 6 × w block) over its tree path.
+  const TwistBlocks rows = twist_blocks(q, in);
   Triplets t;
   for (int i = 0; i < node_count(); ++i)
     for (const auto& [c, B] : rows[i]) add_block(t, 6 * i, c, B);
@@ -552,10 +556,44 @@ SpMat System::tree_null_space(const VecX& q) const {
   return P;
 }
 
+VecX System::abs_tree_null_space_transpose(const VecX& q, const VecX& t) const {
+  // Column j of P_tree = P_int E (57) has, in the rows of node i, P_int,i E_{i,g} (the group g of
+  // column j on the node's path): each entry summed over the six twist rows in order, as
+  // tree_null_space does. Nodes in order are rows in order, so every column's sum runs in the
+  // order of the sparse product |P_tree|ᵀ t.
+  const TwistBlocks rows = twist_blocks(q, input_blocks(q));
+  VecX out = VecX::Zero(k_);
+  for (int i = 0; i < node_count(); ++i) {
+    const NodeMat Pi = node_type(i).twist_null_space(node_q(q, i));
+    const int rows_i = static_cast<int>(Pi.rows());
+    const double* p = Pi.data();  // column-major, rows_i × 6
+    const double* ti = t.data() + nodes_[i].q_offset;
+    // The zero entries of P_int that tree_null_space skips add ±0 here: the same sums.
+    for (const auto& [c, B] : rows[i])
+      for (int col = 0; col < B.cols(); ++col) {
+        const double* b = B.col(col).data();
+        double& sum = out(c + col);
+        for (int r = 0; r < rows_i; ++r) {
+          double x = 0.0;
+          for (int s = 0; s < 6; ++s) x += p[r + rows_i * s] * b[s];
+          sum += std::abs(x) * ti[r];
+        }
+      }
+  }
+  return out;
+}
+
 VecX System::update(const VecX& qn, const VecX& u) const {
-  VecX q = qn;
+  VecX q;
+  std::vector<Mat3> step;
+  update(qn, u, q, step);
+  return q;
+}
+
+void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const {
+  q = qn;
   // Rotation of every node over the step (joints/joint.hpp): what the joints below it apply.
-  std::vector<Mat3> step(node_count(), Mat3::Identity());
+  step.assign(static_cast<std::size_t>(node_count()), Mat3::Identity());
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
     q.segment(nodes_[i].q_offset, coordinate_count(i)) = node_type(i).root_update(
@@ -569,7 +607,6 @@ VecX System::update(const VecX& qn, const VecX& u) const {
         node_q(qn, J.parent), node_q(q, J.parent), J.parent >= 0 ? step[J.parent] : ground_step,
         node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c]);
   }
-  return q;
 }
 
 void System::extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const {
@@ -626,26 +663,35 @@ void System::tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const 
 }
 
 VecX System::reduce(const VecX& q, const VecX& r) const {
+  VecX out, y;
+  reduce(q, r, out, y);
+  return out;
+}
+
+void System::reduce(const VecX& q, const VecX& r, VecX& out, VecX& y) const {
   const int N = node_count();
-  VecX y(6 * N);
+  y.resize(6 * N);
   for (int i = 0; i < N; ++i)
     y.segment<6>(6 * i) = node_type(i).twist_force(node_q(q, i), node_q(r, i));
-  VecX out = VecX::Zero(k_);
+  out.setZero(k_);
   for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
     const auto& J = joints_[*it];
     const auto qa = node_q(q, J.parent), qb = node_q(q, J.child);
     const Vec<6> yc = y.segment<6>(6 * J.child);
     if (J.parent >= 0) y.segment<6>(6 * J.parent) += J.joint->parent_block(qa, qb).transpose() * yc;
-    if (J.joint->freedom_count() > 0)
-      out.segment(J.nu_offset, J.joint->freedom_count()) =
-          J.joint->freedom_block(qa, qb).transpose() * yc;
+    if (J.joint->freedom_count() > 0) {
+      const joints::FreedomBlock B = J.joint->freedom_block(qa, qb);
+      // Viewed as a MatX: the product kernel (and its roundings) of a dynamic matrix, written
+      // straight into out (no temporary).
+      out.segment(J.nu_offset, B.cols()).noalias() =
+          Eigen::Map<const MatX>(B.data(), 6, B.cols()).transpose() * yc;
+    }
   }
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
     out.segment(root_nu_offset_[r], root_width_[r]) =
         node_type(i).free_force(node_q(q, i), y.segment<6>(6 * i));
   }
-  return out;
 }
 
 Vec3 System::linear_momentum(const VecX& v) const {

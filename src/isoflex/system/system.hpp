@@ -296,10 +296,16 @@ class System {
 
   // Tree null space P_tree(q) (n × k): G_tree(q) P_tree(q) = 0 for every q.
   SpMat tree_null_space(const VecX& q) const;
+  // |P_tree(q)|ᵀ t (entrywise absolute values, k) without forming P_tree: the node blocks
+  // P_int,i E_{i,g} along each node's path, with the entries and sums of tree_null_space.
+  VecX abs_tree_null_space_transpose(const VecX& q, const VecX& t) const;
   // Twist-level map E(q) (6·nodes × k) with t = E ν.
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
   VecX update(const VecX& qn, const VecX& u) const;
+  // The same into q, with `step` (the nodes' rotations over the step) as workspace: no heap
+  // allocation once both have their sizes (a Newton iteration).
+  void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const;
   // Overwrites the entries of u that belong to free nodes whose kind extrapolates a step at
   // constant velocity (NodeType::extrapolate; a director node's last increments are in the
   // tangent basis of the last step, which may differ).
@@ -321,6 +327,8 @@ class System {
   void tree_factors(const VecX& q, SpMat& L, SpMat& B, SpMat& Pint) const;
   // 𝖯ᵀ r = ℬᵀ (I − 𝒜)⁻ᵀ P_intᵀ r by one sweep from the leaves to the roots.
   VecX reduce(const VecX& q, const VecX& r) const;
+  // The same into out, with y (the nodes' twist forces, 6N) as workspace.
+  void reduce(const VecX& q, const VecX& r, VecX& out, VecX& y) const;
 
   // Momentum maps: p = Σ (M v)_φ, L = Σ_blocks q_k × (M v)_k (docs/theory).
   Vec3 linear_momentum(const VecX& v) const;
@@ -381,6 +389,9 @@ class System {
   InputBlocks input_blocks(const VecX& q) const;
   InputBlocks update_input_blocks(const VecX& qn, const VecX& q1, const VecX& u) const;
   SpMat twist_map(const VecX& q, const InputBlocks& in) const;
+  // Each node's twist as blocks over its tree path: (first column in ν, 6 × w block of E).
+  using TwistBlocks = std::vector<std::vector<std::pair<int, MatX>>>;
+  TwistBlocks twist_blocks(const VecX& q, const InputBlocks& in) const;
   // The global coordinates of the given nodes, stacked.
   std::vector<int> coordinates_of(const std::vector<int>& nodes) const;
   using ElementKernel =
