@@ -11,7 +11,7 @@ packages=(g++ cmake ninja-build ccache pkg-config
   pybind11-dev python3-dev python3-numpy
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libtbb-dev libsuitesparse-dev
-  libopenblas0-serial libhdf5-dev python3-h5py)
+  libopenblas0-serial libhdf5-dev python3-h5py petsc-dev)
 # --fuzz: also clang and libFuzzer for the libFuzzer harnesses (preset fuzz, README
 # "Development"); the default setup and CI do not need them.
 if [[ ${1:-} == --fuzz ]]; then packages+=(clang libclang-rt-14-dev); fi

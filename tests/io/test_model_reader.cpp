@@ -350,7 +350,7 @@ TEST(ModelReader, UnknownKey) {
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
       "increment_tolerance, max_iterations, max_subdivisions, linear, initial_equilibrium, "
-      "path_following, cosimulation, saddle_point_solver)");
+      "path_following, cosimulation, saddle_point_solver, linear_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -578,6 +578,26 @@ TEST(ModelReader, SolverNumericalDissipation) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.1"})),
             "m.yaml:7: solver.numerical_dissipation: acts on the strains of beams and director "
             "shells, and the model has none");
+}
+
+// The solver of static Newton matrices without rows (integrate/static_newton.hpp
+// LinearSolverMethod); the PETSc ones load the PETSc module, which the build has.
+TEST(ModelReader, SolverLinearSolver) {
+  const auto read = [](const std::string& line) {
+    return read_model_string(with_bodies({"solver:", line}), "m.yaml").solver.linear_solver;
+  };
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.linear_solver,
+            model::LinearSolver::automatic);
+  EXPECT_EQ(read("  linear_solver: direct"), model::LinearSolver::direct);
+  EXPECT_EQ(read("  linear_solver: cg_gamg"), model::LinearSolver::cg_gamg);
+  EXPECT_EQ(read("  linear_solver: cg_hypre"), model::LinearSolver::cg_hypre);
+  EXPECT_EQ(read("  linear_solver: mumps"), model::LinearSolver::mumps);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  linear_solver: pcg"})),
+            "m.yaml:7: solver.linear_solver: unknown solver \"pcg\" (valid: auto, direct, "
+            "cg_gamg, cg_hypre, mumps, cg_multigrid)");
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  linear_solver: cg_multigrid"})),
+            "m.yaml:7: solver.linear_solver: cg_multigrid coarsens the knot vectors of "
+            "Kirchhoff–Love patches, and the model has none (cg_gamg is the algebraic multigrid)");
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

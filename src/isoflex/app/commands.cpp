@@ -769,6 +769,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       sum.n_unknowns = equilibrium.unknowns();
       sum.dt = m.solver.t_end / equilibrium.settings().steps;
       linear = m.solver.linear ? "linear" : "nonlinear";
+      const bool petsc =
+          equilibrium.settings().linear_solver != integrate::LinearSolverMethod::automatic &&
+          equilibrium.settings().linear_solver != integrate::LinearSolverMethod::direct;
+      if (petsc) sum.linear_solver = model::to_string(m.solver.linear_solver);
       doing =
           fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
       const integrate::StaticResult result =
@@ -778,7 +782,17 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
             state.t = st.t;
             state.step = st.step;
             path = st.path;
-            if (st.krylov_iterations > 0 || st.saddle_point_fallbacks > 0) {
+            if (petsc) {
+              sum.krylov_iterations_total =
+                  sum.krylov_iterations_total.value_or(0) + st.krylov_iterations;
+              if (st.linear_solver_fallbacks > 0 && sum.linear_solver_fallbacks.value_or(0) == 0)
+                fmt::print(err,
+                           "warning: load step {}: {} failed ({}); solved by the direct solver "
+                           "(summary.json counts linear_solver_fallbacks)\n",
+                           st.step, *sum.linear_solver, st.linear_solver_fallback_reason);
+              sum.linear_solver_fallbacks =
+                  sum.linear_solver_fallbacks.value_or(0) + st.linear_solver_fallbacks;
+            } else if (st.krylov_iterations > 0 || st.saddle_point_fallbacks > 0) {
               sum.krylov_iterations_total =
                   sum.krylov_iterations_total.value_or(0) + st.krylov_iterations;
               sum.saddle_point_fallbacks =

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/kl_multigrid.hpp"
 #include "isoflex/system/row_selection.hpp"
 
 namespace isoflex::integrate {
@@ -27,6 +28,26 @@ StaticSettings static_settings(const model::Solver& s) {
                      : s.saddle_point_solver == model::SaddlePointSolver::augmented_lagrangian
                          ? SaddlePointMethod::augmented_lagrangian
                          : SaddlePointMethod::automatic;
+  switch (s.linear_solver) {
+    case model::LinearSolver::automatic:
+      out.linear_solver = LinearSolverMethod::automatic;
+      break;
+    case model::LinearSolver::direct:
+      out.linear_solver = LinearSolverMethod::direct;
+      break;
+    case model::LinearSolver::cg_gamg:
+      out.linear_solver = LinearSolverMethod::cg_gamg;
+      break;
+    case model::LinearSolver::cg_hypre:
+      out.linear_solver = LinearSolverMethod::cg_hypre;
+      break;
+    case model::LinearSolver::mumps:
+      out.linear_solver = LinearSolverMethod::mumps;
+      break;
+    case model::LinearSolver::cg_multigrid:
+      out.linear_solver = LinearSolverMethod::cg_multigrid;
+      break;
+  }
   const model::PathFollowing& f = s.path;
   out.path.control = f.method == model::PathMethod::arc_length     ? PathControl::arc_length
                      : f.method == model::PathMethod::displacement ? PathControl::displacement
@@ -195,7 +216,11 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   pb.configuration_size = n;
   pb.symmetric = !follower;
   pb.linear = linear && !(patches_only && follower);
+  for (int i = 0; i < sys.node_count(); ++i)
+    if (sys.node_kind(i) == NodeKind::point) pb.points.push_back(sys.q_offset(i));
   const system::System* S = &sys;
+  if (!sys.kl_patches().empty())
+    pb.transfer_operators = [S] { return system::kl_transfer_operators(*S); };
   auto selection = std::make_shared<RowSelection>();
   // Every load step starts from the last equilibrium: the elements keep their history from it
   // (System::accept), and rows reselected at every step are chosen there.

@@ -12,6 +12,7 @@
 
 #include "isoflex/integrate/arc_length.hpp"
 #include "isoflex/integrate/newton_loop.hpp"
+#include "isoflex/solve/krylov_solver.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/saddle_point.hpp"
 
@@ -28,6 +29,9 @@ double seconds_since(Clock::time_point t0) {
 double inf_norm(const VecX& v) {
   return v.size() ? v.lpNorm<Eigen::Infinity>() : 0.0;
 }
+
+// The relative tolerance of a PETSc solve that is not a Newton step's (docs/theory/solvers.md §3).
+constexpr double kKrylovTightTolerance = 1e-10;
 
 }  // namespace
 
@@ -75,6 +79,13 @@ struct StaticNewtonSolver::Impl {
   solve::FixedPatternCholesky cholesky;
   solve::FixedPatternLU lu;
   solve::SaddlePointSolver saddle;
+  std::unique_ptr<solve::KrylovSolver> krylov;  // a PETSc solver (settings.linear_solver)
+  int pattern_version = 0;                      // A's pattern, counted by build_reduction
+  int krylov_pattern = -1;                      // the version the PETSc solver last saw
+  // The tolerance of the next PETSc solve, ‖b − A x‖₂ ≤ max(rtol ‖b‖₂, atol): a Newton step sets
+  // its forcing term (krylov_forcing); other solves (the bordered ones of path following, the
+  // tangent at the reference) are solved to rtol alone.
+  double krylov_rtol = kKrylovTightTolerance, krylov_atol = 0.0;
   LoadStepStats* stats = nullptr;  // the step whose solves are counted (saddle-point solver)
   int analyses_before = 0;
 
@@ -159,6 +170,7 @@ struct StaticNewtonSolver::Impl {
         tied_entries.push_back({k, a, w});
     });
     have_reduction = true;
+    ++pattern_version;
   }
 
   bool same_pattern(const SpMat& K) const {
@@ -202,6 +214,28 @@ struct StaticNewtonSolver::Impl {
         return solver.solve(M, b);
     };
     const bool multipliers = m > 0 || nf_configuration < nf;
+    if (use_krylov() && stats && (multipliers || !problem.symmetric)) {
+      // Not a symmetric positive definite matrix without rows: the solvers below (PETSc's
+      // saddle-point and unsymmetric solvers are not built in), said once per solve.
+      ++stats->linear_solver_fallbacks;
+      stats->linear_solver_fallback_reason =
+          multipliers ? "the Newton matrix has multiplier rows (supports imposed weakly, "
+                        "couplings, joints), which the PETSc solvers do not take"
+                      : "the Newton matrix is not symmetric (follower loads)";
+    }
+    if (problem.symmetric && !multipliers && use_krylov()) {
+      make_krylov();
+      try {
+        return krylov_solve(M, b);
+      } catch (const std::runtime_error& e) {
+        // Not positive definite (past a limit point) or short of its tolerance: the direct
+        // solvers below.
+        if (stats) {
+          ++stats->linear_solver_fallbacks;
+          stats->linear_solver_fallback_reason = e.what();
+        }
+      }
+    }
     if (problem.symmetric && !multipliers) {
       try {
         return with(cholesky);
@@ -224,6 +258,110 @@ struct StaticNewtonSolver::Impl {
       }
     }
     return with(lu);
+  }
+
+  bool use_krylov() const {
+    switch (settings.linear_solver) {
+      case LinearSolverMethod::cg_gamg:
+      case LinearSolverMethod::cg_hypre:
+      case LinearSolverMethod::mumps:
+      case LinearSolverMethod::cg_multigrid:
+        return true;
+      case LinearSolverMethod::automatic:
+      case LinearSolverMethod::direct:
+        break;
+    }
+    return false;
+  }
+
+  solve::KrylovMethod krylov_method() const {
+    switch (settings.linear_solver) {
+      case LinearSolverMethod::cg_hypre:
+        return solve::KrylovMethod::cg_hypre;
+      case LinearSolverMethod::mumps:
+        return solve::KrylovMethod::mumps;
+      case LinearSolverMethod::cg_multigrid:
+        return solve::KrylovMethod::cg_multigrid;
+      default:
+        return solve::KrylovMethod::cg_gamg;
+    }
+  }
+
+  // The PETSc solver, on first use. What the model cannot have (a module that does not load, a
+  // multigrid without patches) is an error of the run, not a fallback: the model asked for it.
+  void make_krylov() {
+    if (krylov) return;
+    try {
+      auto solver = std::make_unique<solve::KrylovSolver>(krylov_method());
+      if (krylov_method() == solve::KrylovMethod::cg_multigrid)
+        solver->set_interpolations(free_transfer_operators());
+      else if (!problem.points.empty())
+        solver->set_near_null_space(free_rigid_body_modes());
+      krylov = std::move(solver);
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(std::string("solver.linear_solver: ") + e.what());
+    }
+  }
+
+  // The columns of b by the PETSc solver, each to the tolerance set for it.
+  template <class Rhs>
+  Rhs krylov_solve(const SpMat& M, const Rhs& b) {
+    const double rtol = std::exchange(krylov_rtol, kKrylovTightTolerance);
+    const double atol = std::exchange(krylov_atol, 0.0);
+    Rhs x(b.rows(), b.cols());
+    for (Eigen::Index c = 0; c < b.cols(); ++c) {
+      x.col(c) =
+          krylov->solve(M, krylov_pattern != pattern_version, b.col(c), rtol, c == 0 ? atol : 0.0);
+      krylov_pattern = pattern_version;
+      if (stats) stats->krylov_iterations += krylov->last().iterations;
+    }
+    return x;
+  }
+
+  // The rigid-body modes of problem.points at the reference, on the Newton unknowns (the free
+  // dofs; a slave's entry is not one, and the multipliers have none).
+  MatX free_rigid_body_modes() const {
+    const MatX full = solve::rigid_body_modes(problem.reference.head(n), problem.points);
+    MatX out = MatX::Zero(nf + m, full.cols());
+    for (int k = 0; k < nf; ++k) out.row(k) = full.row(dofs.free[static_cast<std::size_t>(k)]);
+    return out;
+  }
+
+  // problem.transfer_operators on the Newton unknowns: P_1's rows of the free dofs, and at every
+  // level the coarse unknowns that the kept rows reach (a coarse control point whose fine image
+  // is held is not an unknown either).
+  std::vector<SpMat> free_transfer_operators() const {
+    if (!dofs.slaves.empty())
+      throw std::runtime_error(
+          "geometric multigrid (cg_multigrid): the model has tied coordinates (c1 or c0 "
+          "couplings by elimination), which its interpolations do not follow");
+    if (!problem.transfer_operators)
+      throw std::runtime_error(
+          "geometric multigrid (cg_multigrid): the model has no Kirchhoff–Love patch to coarsen");
+    // Empty for a model small enough to be its own coarsest level.
+    std::vector<SpMat> P = problem.transfer_operators();
+    std::vector<int> rows(static_cast<std::size_t>(n), -1);  // fine index → kept row
+    for (int k = 0; k < nf; ++k)
+      rows[static_cast<std::size_t>(dofs.free[static_cast<std::size_t>(k)])] = k;
+    int kept_rows = nf;
+    for (SpMat& Pl : P) {
+      std::vector<int> cols(static_cast<std::size_t>(Pl.cols()), -1);
+      int kept_cols = 0;
+      std::vector<Eigen::Triplet<double>> t;
+      for (int j = 0; j < Pl.outerSize(); ++j)
+        for (SpMat::InnerIterator it(Pl, j); it; ++it) {
+          const int r = rows[static_cast<std::size_t>(it.row())];
+          if (r < 0) continue;
+          int& c = cols[static_cast<std::size_t>(j)];
+          if (c < 0) c = kept_cols++;
+          t.emplace_back(r, c, it.value());
+        }
+      Pl = SpMat(kept_rows, kept_cols);
+      Pl.setFromTriplets(t.begin(), t.end());
+      rows = std::move(cols);
+      kept_rows = kept_cols;
+    }
+    return P;
   }
 
   bool use_saddle_point_solver(const SpMat& M) const {
@@ -264,6 +402,14 @@ struct StaticNewtonSolver::Impl {
     return R;
   }
 
+  // The forcing term of an inexact Newton step (docs/theory/solvers.md §3): the linear residual
+  // at most min(10⁻², ‖R‖∞/scale) ‖R‖₂, which keeps the convergence quadratic, or a tenth of the
+  // Newton tolerance, below which the next residual is converged whatever the quadratic term.
+  void krylov_forcing(const VecX& R, double scale) {
+    krylov_rtol = problem.linear ? 0.0 : std::min(1e-2, inf_norm(R) / std::max(scale, 1e-300));
+    krylov_atol = 0.1 * settings.residual_tolerance * scale;
+  }
+
   // A factorization of a singular matrix (a mechanism: a part held by neither supports nor
   // couplings, a c0 interface as a hinge) can succeed on round-off pivots and return a correction
   // of the size 1/eps; no static correction is 10⁸ times the size of the model (neither is one
@@ -302,6 +448,7 @@ struct StaticNewtonSolver::Impl {
           const auto t0 = Clock::now();
           VecX dz;
           try {
+            krylov_forcing(R, scale);
             dz = linear_solve(A, -R);
           } catch (...) {
             st.solve_seconds += seconds_since(t0);

@@ -86,6 +86,12 @@ struct StaticProblem {
   // The leading entries of x that are configuration (the rest: multipliers of the problem's own
   // constraint rows, in force units); the correction test measures those only. −1: all of x.
   int configuration_size = -1;
+  // Offsets in x of the positions of points (x, y, z each), whose rigid-body motions span the
+  // near null space that algebraic multigrid is given (solve::rigid_body_modes); optional.
+  std::vector<int> points;
+  // The interpolations of geometric multigrid on x (system/kl_multigrid.hpp): P_1 (rows: the
+  // entries of x), P_2, …; asked for by the cg_multigrid solver only.
+  std::function<std::vector<SpMat>()> transfer_operators;
 };
 
 using system::DofMap;
@@ -114,9 +120,19 @@ struct PathSettings {
 enum class SaddlePointMethod { automatic, lu, augmented_lagrangian };
 inline constexpr int kIterativeSaddlePointUnknowns = 20000;
 
+// The solver of Newton matrices without multiplier rows (symmetric positive definite at a stable
+// equilibrium): CHOLMOD's supernodal Cholesky, or a PETSc solver (solve/krylov_solver.hpp):
+// conjugate gradients with GAMG, BoomerAMG or geometric multigrid over the knot hierarchy of the
+// NURBS patches (StaticProblem::transfer_operators), as an inexact Newton (the forcing term of
+// docs/theory/solvers.md §3), or MUMPS's Cholesky. A PETSc solve that fails (not positive
+// definite past a limit point, no convergence) falls back to the direct solvers, counted in
+// LoadStepStats::linear_solver_fallbacks. automatic: direct.
+enum class LinearSolverMethod { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
+
 struct StaticSettings {
   double t_end = 1.0;
   SaddlePointMethod saddle_point = SaddlePointMethod::automatic;
+  LinearSolverMethod linear_solver = LinearSolverMethod::automatic;
   int steps = 1;  // nominal number of load increments (Δt = t_end / steps)
   bool adaptive = false;
   int max_cuts = 10;   // the increment is at least the nominal one / 2^max_cuts (adaptive)
@@ -145,10 +161,14 @@ struct LoadStepStats {
   double assembly_seconds = 0.0;         // residual/tangent evaluation and reduction
   double solve_seconds = 0.0;            // linear solves (factorization included)
   double wall_seconds = 0.0;             // the whole step, failed attempts included
-  // Saddle-point solves by the augmented Lagrangian: GMRES iterations in all, and solves that
-  // fell back to the sparse LU (Â not positive definite, GMRES short of its tolerance).
+  // Krylov iterations in all (GMRES of the augmented Lagrangian, CG of a PETSc solver), and
+  // saddle-point solves that fell back to the sparse LU (Â not positive definite, GMRES short of
+  // its tolerance).
   int krylov_iterations = 0;
   int saddle_point_fallbacks = 0;
+  // PETSc solves (StaticSettings::linear_solver) that fell back to the direct solvers.
+  int linear_solver_fallbacks = 0;
+  std::string linear_solver_fallback_reason;  // the last one's (PETSc's reason)
 };
 
 struct StaticResult {

@@ -24,6 +24,7 @@
 #include "isoflex/io/surface_reader.hpp"
 #include "isoflex/io/yaml_fields.hpp"
 #include "isoflex/loads/time_function.hpp"
+#include "isoflex/solve/krylov_solver.hpp"
 
 namespace isoflex::io {
 
@@ -142,6 +143,10 @@ class Reader : YamlFields {
     if (m.solver.numerical_dissipation > 0.0 && m.shells.empty() && m.beams.empty())
       fail(root["solver"]["numerical_dissipation"], "solver.numerical_dissipation",
            "acts on the strains of beams and director shells, and the model has none");
+    if (m.solver.linear_solver == model::LinearSolver::cg_multigrid && m.kl_shells.empty())
+      fail(root["solver"]["linear_solver"], "solver.linear_solver",
+           "cg_multigrid coarsens the knot vectors of Kirchhoff–Love patches, and the model has "
+           "none (cg_gamg is the algebraic multigrid)");
     if (m.bodies.empty() && m.beams.empty() && m.shells.empty() && m.kl_shells.empty()) {
       const YAML::Node bodies = root["bodies"];
       const YAML::Node beams = root["beams"];
@@ -200,7 +205,7 @@ class Reader : YamlFields {
                {"analysis", "formulation", "integrator", "rho_infinity", "numerical_dissipation",
                 "scaling", "dt", "t_end", "residual_tolerance", "increment_tolerance",
                 "max_iterations", "max_subdivisions", "linear", "initial_equilibrium",
-                "path_following", "cosimulation", "saddle_point_solver"});
+                "path_following", "cosimulation", "saddle_point_solver", "linear_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -278,6 +283,7 @@ class Reader : YamlFields {
         fail(v, "solver.saddle_point_solver",
              "unknown solver \"" + name + "\" (valid: auto, lu, augmented_lagrangian)");
     }
+    if (const auto v = n["linear_solver"]) read_linear_solver(v, s);
     if (const auto v = n["path_following"]) read_path_following(v, s);
     if (const auto v = n["cosimulation"]) read_cosimulation(v, s);
     // The step count of the file's own dt and t_end (command-line overrides: app load()).
@@ -285,6 +291,19 @@ class Reader : YamlFields {
       if (const auto v = n["t_end"]) fail(v, "solver.t_end", problem);
       fail(n["dt"], "solver.dt", problem);  // the default t_end: dt is the one given
     }
+  }
+
+  void read_linear_solver(const YAML::Node& v, model::Solver& s) const {
+    const std::string name = string(v, "solver.linear_solver");
+    const auto kind = model::linear_solver_from_string(name);
+    if (!kind)
+      fail(v, "solver.linear_solver",
+           "unknown solver \"" + name +
+               "\" (valid: auto, direct, cg_gamg, cg_hypre, mumps, cg_multigrid)");
+    s.linear_solver = *kind;
+    std::string why;
+    if (name != "auto" && name != "direct" && !solve::krylov_available(&why))
+      fail(v, "solver.linear_solver", name + " is a PETSc solver: " + why);
   }
 
   void read_cosimulation(const YAML::Node& n, model::Solver& s) const {

@@ -115,6 +115,11 @@ std::string summary_json(const RunSummary& s) {
     integer("initial_equilibrium_load_steps", *s.initial_equilibrium_load_steps);
   if (s.krylov_iterations_total) integer("krylov_iterations_total", *s.krylov_iterations_total);
   if (s.saddle_point_fallbacks) integer("saddle_point_fallbacks", *s.saddle_point_fallbacks);
+  if (s.linear_solver) {
+    key("linear_solver");
+    fmt::format_to(it, "{},\n", json_string(*s.linear_solver));
+  }
+  if (s.linear_solver_fallbacks) integer("linear_solver_fallbacks", *s.linear_solver_fallbacks);
   if (s.restart_file) {
     key("restart");
     fmt::format_to(it, "{{\"file\": {}, \"from_step\": {}}},\n", json_string(*s.restart_file),

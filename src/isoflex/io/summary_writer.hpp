@@ -50,6 +50,10 @@ struct RunSummary {
   // the sparse LU.
   std::optional<int> krylov_iterations_total;
   std::optional<int> saddle_point_fallbacks;
+  // A static run with a PETSc solver (solver.linear_solver): its name, and the solves that fell
+  // back to the direct solvers (krylov_iterations_total counts its CG iterations).
+  std::optional<std::string> linear_solver;
+  std::optional<int> linear_solver_fallbacks;
   // A restarted run (isoflex run --restart FILE --from-step N): FILE and N.
   std::optional<std::string> restart_file;
   int restart_from_step = 0;

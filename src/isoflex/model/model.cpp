@@ -58,6 +58,31 @@ std::optional<Formulation> formulation_from_string(const std::string& s) {
   return std::nullopt;
 }
 
+const char* to_string(LinearSolver s) {
+  switch (s) {
+    case LinearSolver::automatic:
+      return "auto";
+    case LinearSolver::direct:
+      return "direct";
+    case LinearSolver::cg_gamg:
+      return "cg_gamg";
+    case LinearSolver::cg_hypre:
+      return "cg_hypre";
+    case LinearSolver::mumps:
+      return "mumps";
+    case LinearSolver::cg_multigrid:
+      return "cg_multigrid";
+  }
+  return "?";
+}
+
+std::optional<LinearSolver> linear_solver_from_string(const std::string& s) {
+  for (LinearSolver k : {LinearSolver::automatic, LinearSolver::direct, LinearSolver::cg_gamg,
+                         LinearSolver::cg_hypre, LinearSolver::mumps, LinearSolver::cg_multigrid})
+    if (s == to_string(k)) return k;
+  return std::nullopt;
+}
+
 const char* to_string(Integrator i) {
   switch (i) {
     case Integrator::energy_momentum:

@@ -478,6 +478,9 @@ struct CoSimulation {
 // Static solves: how Newton matrices with multiplier rows are solved (integrate/static_newton.hpp
 // SaddlePointMethod; automatic: by size).
 enum class SaddlePointSolver { automatic, lu, augmented_lagrangian };
+// Static solves: how Newton matrices without multiplier rows are solved: CHOLMOD's Cholesky
+// (direct), or a PETSc solver (integrate/static_newton.hpp LinearSolverMethod; automatic: by size).
+enum class LinearSolver { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
 
 struct Solver {
   Analysis analysis = Analysis::dynamic;
@@ -504,6 +507,7 @@ struct Solver {
   // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
   int initial_equilibrium = 0;
   SaddlePointSolver saddle_point_solver = SaddlePointSolver::automatic;  // static analyses only
+  LinearSolver linear_solver = LinearSolver::automatic;                  // static analyses only
   PathFollowing path;                                                    // static analyses only
   std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
 };
@@ -549,6 +553,8 @@ const char* to_string(JointType t);
 std::optional<JointType> joint_type_from_string(const std::string& s);
 const char* to_string(Formulation f);
 std::optional<Formulation> formulation_from_string(const std::string& s);
+const char* to_string(LinearSolver s);
+std::optional<LinearSolver> linear_solver_from_string(const std::string& s);
 const char* to_string(Integrator i);
 const char* to_string(CoSimulationHold h);
 std::optional<Integrator> integrator_from_string(const std::string& s);

@@ -1,0 +1,56 @@
+#pragma once
+// The interface between isoflex and its PETSc module (libisoflex_petsc.so, solve/petsc/): the
+// module is opened by KrylovSolver (krylov_solver.hpp) when a model asks for an iterative or a
+// PETSc solver, and only then, so that no other run loads PETSc's libraries (about 100 of them,
+// 60–80 ms per process). Module and caller are built by the same compiler against the same
+// libstdc++, so C++ objects and exceptions pass through.
+#include <string>
+
+namespace isoflex::solve {
+
+// The PETSc solvers (docs/theory/solvers.md §3–4): conjugate gradients preconditioned by smoothed-
+// aggregation algebraic multigrid (PCGAMG) with the near-null-space of set_near_null_space, the
+// same with hypre's BoomerAMG (classical AMG; no near-null-space), MUMPS's sparse Cholesky, and
+// conjugate gradients preconditioned by geometric multigrid (PCMG) with the interpolations of
+// set_interpolations (the knot hierarchy of the NURBS patches, Galerkin coarse matrices).
+enum class KrylovMethod { cg_gamg, cg_hypre, mumps, cg_multigrid };
+
+// A matrix in compressed sparse rows (PETSc's AIJ layout; a symmetric Eigen column-major matrix
+// is its own CSR). The arrays are the caller's: the module reads them in place.
+struct CsrView {
+  int n = 0;                       // rows
+  int cols = 0;                    // 0: square
+  const int* row_start = nullptr;  // n + 1 entries
+  const int* columns = nullptr;    // sorted within a row
+  const double* values = nullptr;
+};
+
+struct KrylovReport {
+  int iterations = 0;
+  double residual = 0.0;  // ‖b − A x‖₂ at the end, by the solver's recurrence
+  std::string reason;     // PETSc's converged/diverged reason
+};
+
+class KrylovBackend {
+ public:
+  virtual ~KrylovBackend() = default;
+  // A basis of the near null space (n rows, `count` orthonormal columns, column-major), given to
+  // the algebraic multigrid with every matrix from now on.
+  virtual void set_near_null_space(int n, int count, const double* columns) = 0;
+  // The multigrid interpolations P_1 (n × n_1, onto A's unknowns), P_2 (n_1 × n_2), …, the
+  // coarsest last (cg_multigrid only); their arrays must stay alive and unchanged.
+  virtual void set_interpolations(int count, const CsrView* P) = 0;
+  // x = A⁻¹ b to ‖b − A x‖₂ ≤ max(rtol ‖b‖₂, atol) from x = 0. `new_pattern`: A's arrays are not
+  // those of the last call (else only their values changed, and the module reuses its matrix,
+  // the multigrid hierarchy's aggregates and the symbolic factorization). Throws
+  // std::runtime_error when the solver fails (not positive definite, no convergence in
+  // max_iterations), with PETSc's reason.
+  virtual KrylovReport solve(const CsrView& A, bool new_pattern, const double* b, double* x,
+                             double rtol, double atol, int max_iterations) = 0;
+};
+
+}  // namespace isoflex::solve
+
+// The module's entry point: a new backend of `method` (a KrylovMethod), PETSc initialized on the
+// first call; nullptr with the reason in *error if PETSc fails to start.
+extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, std::string* error);

@@ -1,0 +1,23 @@
+#pragma once
+// The transfer operators of geometric multigrid over the knot hierarchy of the model's
+// Kirchhoff–Love patches (docs/theory/solvers.md §4). The coarse spaces are spline spaces of the
+// coarsened knot vectors (geometry/knot_hierarchy.hpp) divided by the fine patch's weight
+// function W: a NURBS basis function of the fine patch is R_j = w_j N_j / W, and a coarse one
+// N^c_i / W = Σ_j A_ji N_j / W = Σ_j (A_ji / w_j) R_j, so the coarse spaces are nested in the fine
+// one exactly (no coarse geometry is needed: the coarse level has no weights of its own).
+#include <Eigen/SparseCore>
+#include <vector>
+
+namespace isoflex::system {
+
+class System;
+
+// P_1 (n × n_1), P_2 (n_1 × n_2), …, the coarsest last: the fine coefficients from the coarse
+// ones, x_l = P_{l+1} x_{l+1}. Every coordinate of q that is not a control point of a patch
+// passes to each coarse level unchanged (first, in its order), then each patch's coarse control
+// points (x, y, z each). Levels are added while the patches coarsen and the level has more than
+// `coarsest_unknowns` unknowns. Empty if no patch coarsens at all.
+std::vector<Eigen::SparseMatrix<double>> kl_transfer_operators(const System& sys,
+                                                               int coarsest_unknowns = 3000);
+
+}  // namespace isoflex::system

@@ -1,0 +1,76 @@
+// The nested spline spaces of geometric multigrid (geometry/knot_hierarchy.hpp): the coarsened
+// knot vector, and the knot-insertion matrix checked against the B-spline bases themselves.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "isoflex/geometry/bspline_basis.hpp"
+#include "isoflex/geometry/knot_hierarchy.hpp"
+#include "isoflex/math/types.hpp"
+
+using namespace isoflex;
+using geometry::KnotVector;
+
+namespace {
+
+// All basis functions of kv at u (zero outside the p + 1 non-zero ones).
+VecX all_functions(const KnotVector& kv, double u) {
+  const geometry::Basis1D b = geometry::bspline_basis(kv, u, 0);
+  VecX N = VecX::Zero(kv.n_basis());
+  for (int j = 0; j <= kv.degree(); ++j) N(b.span - kv.degree() + j) = b.ders(0, j);
+  return N;
+}
+
+}  // namespace
+
+TEST(KnotHierarchy, CoarseningDropsEveryOtherSimpleKnotAndKeepsRepeatedOnes) {
+  // Degree 3; interior knots 0.1 … 0.9 simple, 0.5 double (a joint of the geometry).
+  const KnotVector fine(3,
+                        {0, 0, 0, 0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.5, 0.6, 0.7, 0.8, 0.9, 1, 1, 1, 1});
+  const auto coarse = geometry::coarsen(fine);
+  ASSERT_TRUE(coarse);
+  const std::vector<double> expected{0, 0, 0, 0, 0.2, 0.4, 0.5, 0.5, 0.7, 0.9, 1, 1, 1, 1};
+  EXPECT_EQ(coarse->knots(), expected);
+  // Nothing left to drop: no coarser vector.
+  EXPECT_FALSE(geometry::coarsen(KnotVector(2, {0, 0, 0, 0.5, 0.5, 1, 1, 1})));
+  EXPECT_FALSE(geometry::coarsen(KnotVector::open_uniform(3, 1)));
+}
+
+// N^coarse_i(u) = Σ_j A_ji N^fine_j(u) at points all over the domain, to round-off, for every
+// degree and for two coarsenings in a row.
+TEST(KnotHierarchy, InsertionMatrixWritesTheCoarseBasisInTheFineOne) {
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (int p = 1; p <= 5; ++p) {
+    const KnotVector fine = KnotVector::open_uniform(p, 23);
+    const KnotVector mid = *geometry::coarsen(fine);
+    const KnotVector coarse = *geometry::coarsen(mid);
+    const Eigen::SparseMatrix<double> A = geometry::knot_insertion_matrix(mid, fine);
+    const Eigen::SparseMatrix<double> B = geometry::knot_insertion_matrix(coarse, mid);
+    ASSERT_EQ(A.rows(), fine.n_basis());
+    ASSERT_EQ(A.cols(), mid.n_basis());
+    double worst = 0.0;
+    for (int k = 0; k < 200; ++k) {
+      const double u = k == 0 ? 0.0 : k == 1 ? 1.0 : u01(g);
+      const VecX Nf = all_functions(fine, u), Nm = all_functions(mid, u),
+                 Nc = all_functions(coarse, u);
+      worst = std::max(worst, (VecX(A.transpose() * Nf) - Nm).cwiseAbs().maxCoeff());
+      worst = std::max(worst, (VecX((A * B).transpose() * Nf) - Nc).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst, 1e-13) << "degree " << p;
+    // Each column is non-negative and sums to 1 (partition of unity on both sides).
+    const VecX sums = VecX::Ones(A.rows()).transpose() * A;
+    for (Eigen::Index i = 0; i < A.cols(); ++i) EXPECT_GT(sums(i), 0.0);
+    EXPECT_LT((VecX(A * VecX::Ones(A.cols())) - VecX::Ones(A.rows())).cwiseAbs().maxCoeff(), 1e-14);
+  }
+}
+
+TEST(KnotHierarchy, InsertionMatrixRefusesWhatIsNotASubspace) {
+  const KnotVector fine = KnotVector::open_uniform(3, 8);
+  EXPECT_THROW(geometry::knot_insertion_matrix(KnotVector::open_uniform(2, 4), fine),
+               std::invalid_argument);
+  // 1/3 is not a knot of the fine vector (spans of 1/8).
+  EXPECT_THROW(
+      geometry::knot_insertion_matrix(KnotVector(3, {0, 0, 0, 0, 1.0 / 3, 1, 1, 1, 1}), fine),
+      std::invalid_argument);
+}

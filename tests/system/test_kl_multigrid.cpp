@@ -1,0 +1,95 @@
+// The transfer operators of geometric multigrid (system/kl_multigrid.hpp) on a rational patch
+// (the Scordelis–Lo roof, a NURBS cylinder sector): every coarse function of every level is a
+// function of the fine patch, exactly — the coarse field Σ N^c_i c_i / W evaluated directly equals
+// the fine field Σ R_j x_j of the interpolated coefficients x = P_1 ⋯ P_l c.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "isoflex/geometry/bspline_basis.hpp"
+#include "isoflex/geometry/knot_hierarchy.hpp"
+#include "isoflex/geometry/nurbs_surface.hpp"
+#include "isoflex/io/model_reader.hpp"
+#include "isoflex/system/kl_multigrid.hpp"
+#include "isoflex/system/system.hpp"
+
+using namespace isoflex;
+using geometry::KnotVector;
+using SpMat = Eigen::SparseMatrix<double>;
+
+namespace {
+
+const char* kRoof = R"(
+solver: {analysis: static, dt: 1, t_end: 1}
+surfaces:
+  - name: roof
+    builtin: {type: cylinder_sector, radius: 25, length: 50, angle: 80}
+    refine: {elevate: [1, 2], knots_per_span: [15, 13]}
+kl_shells:
+  - {name: roof, surface: roof, material: {E: 4.32e8, nu: 0, thickness: 0.25}}
+bodies:
+  - {name: lump, mass: 2, inertia: [1, 1, 1], position: [0, 0, -10]}
+)";
+
+VecX all_functions(const KnotVector& kv, double u) {
+  const geometry::Basis1D b = geometry::bspline_basis(kv, u, 0);
+  VecX N = VecX::Zero(kv.n_basis());
+  for (int j = 0; j <= kv.degree(); ++j) N(b.span - kv.degree() + j) = b.ders(0, j);
+  return N;
+}
+
+}  // namespace
+
+TEST(KLMultigrid, CoarseFunctionsAreFunctionsOfTheFinePatch) {
+  const model::Model m = io::read_model_string(kRoof, "roof.yaml");
+  const system::System sys = system::System::compile(m);
+  ASSERT_EQ(sys.kl_patches().size(), 1u);
+  const system::KLPatchInstance& P = sys.kl_patches()[0];
+  const geometry::NurbsSurface& S = P.element->patch().reference();
+  ASSERT_TRUE(S.is_rational());
+  const std::vector<SpMat> transfers = system::kl_transfer_operators(sys, 0);
+  ASSERT_GE(transfers.size(), 2u);
+  EXPECT_EQ(transfers[0].rows(), sys.n());
+
+  std::mt19937 g(3);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  KnotVector cu = S.u, cv = S.v;
+  SpMat chain = transfers[0];  // fine coefficients from those of level l
+  for (std::size_t l = 0; l < transfers.size(); ++l) {
+    if (l > 0) chain = SpMat(chain * transfers[l]);
+    if (const auto c = geometry::coarsen(cu)) cu = *c;
+    if (const auto c = geometry::coarsen(cv)) cv = *c;
+    // The body's 7 coordinates (its position and quaternion, first in q) pass through first.
+    const int others = sys.n() - 3 * static_cast<int>(P.nodes.size());
+    ASSERT_EQ(chain.cols(), others + 3 * cu.n_basis() * cv.n_basis()) << "level " << l + 1;
+    VecX c(chain.cols());
+    for (Eigen::Index i = 0; i < c.size(); ++i) c(i) = u01(g) - 0.5;
+    const VecX x = chain * c;
+    double worst = 0.0, size = 0.0;
+    for (int k = 0; k < 50; ++k) {
+      const double xi = u01(g), eta = u01(g);
+      const geometry::SurfaceBasis B = geometry::surface_basis(S, xi, eta);
+      Vec3 fine = Vec3::Zero();
+      for (int a = 0; a < B.R.cols(); ++a)
+        fine += B.R(0, a) *
+                x.segment<3>(sys.q_offset(P.nodes[static_cast<std::size_t>(B.global_index(S, a))]));
+      const VecX Nu = all_functions(S.u, xi), Nv = all_functions(S.v, eta);
+      double W = 0.0;
+      for (int j = 0; j < S.n_v(); ++j)
+        for (int i = 0; i < S.n_u(); ++i) W += Nu(i) * Nv(j) * S.weights[S.index(i, j)];
+      const VecX Cu = all_functions(cu, xi), Cv = all_functions(cv, eta);
+      Vec3 coarse = Vec3::Zero();
+      for (int j = 0; j < cv.n_basis(); ++j)
+        for (int i = 0; i < cu.n_basis(); ++i)
+          coarse += Cu(i) * Cv(j) / W * c.segment<3>(others + 3 * (i + cu.n_basis() * j));
+      worst = std::max(worst, (fine - coarse).norm());
+      size = std::max(size, coarse.norm());
+    }
+    EXPECT_LT(worst, 1e-13 * size) << "level " << l + 1;
+    // The coordinates that are not control points are carried over unchanged.
+    for (int i = 0; i < others; ++i) {
+      const int fine_index = sys.q_offset(0) + i;
+      EXPECT_DOUBLE_EQ(x(fine_index), c(i)) << "level " << l + 1 << ", coordinate " << i;
+    }
+  }
+}
