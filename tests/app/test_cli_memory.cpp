@@ -181,3 +181,32 @@ TEST(MemoryEstimate, CountsAKirchhoffLovePatchFromTheModel) {
   EXPECT_EQ(isoflex::system::format_bytes(4.3 * (1 << 30)), "4.3 GB");
   EXPECT_EQ(isoflex::system::format_bytes(31.2 * (1 << 30)), "31 GB");
 }
+
+// The PETSc path (docs/memory.md "The PETSc path"): an iterative solver factorizes nothing of
+// the model's size, so the estimate has no sparse LU — asked for, or chosen by `auto` for one
+// patch held by `fixed` supports from 50 000 unknowns on; a model with symmetry rows keeps the
+// direct solver's estimate.
+TEST(CliMemory, ThePetscPathIsEstimatedWithoutAFactorization) {
+  const std::string whole = isoflex::test::replaced(
+      read_text(ISOFLEX_SOURCE_DIR "/bench/large_shells/scordelis_lo_whole.yaml"),
+      "knots_per_span: [40, 40]", "knots_per_span: [150, 150]");
+  const auto estimate = [](const std::string& text) {
+    return isoflex::system::estimate_memory(isoflex::io::read_model_string(text, "roof.yaml"));
+  };
+  const auto multigrid = estimate(whole);
+  const auto automatic = estimate(
+      isoflex::test::replaced(whole, "linear_solver: cg_multigrid", "linear_solver: auto"));
+  const auto direct = estimate(
+      isoflex::test::replaced(whole, "linear_solver: cg_multigrid", "linear_solver: direct"));
+  EXPECT_GE(multigrid.unknowns(), 50000);
+  EXPECT_TRUE(contains(multigrid.breakdown(), "sparse matrices and preconditioner"))
+      << multigrid.breakdown();
+  EXPECT_EQ(automatic.breakdown(), multigrid.breakdown());
+  EXPECT_TRUE(contains(direct.breakdown(), "sparse LU")) << direct.breakdown();
+  EXPECT_LT(multigrid.total(), 0.6 * direct.total());
+  // Symmetry supports are multiplier rows: the direct solvers, and their estimate.
+  const auto quarter =
+      estimate(isoflex::test::replaced(read_text(kExamples + "scordelis_lo/kl_shell.yaml"),
+                                       "knots_per_span: [3, 3]", "knots_per_span: [150, 150]"));
+  EXPECT_TRUE(contains(quarter.breakdown(), "sparse LU")) << quarter.breakdown();
+}

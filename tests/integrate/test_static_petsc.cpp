@@ -125,3 +125,27 @@ TEST(StaticPetsc, MultigridOnASmallPatchIsItsCoarsestLevel) {
   EXPECT_LE(s.krylov_iterations, 2);
   EXPECT_EQ(s.fallbacks, 0);
 }
+
+// `auto` (integrate::kAutomaticMultigridUnknowns): geometric multigrid for patches without rows
+// from 50 000 unknowns on, the direct solver below and wherever the matrix has multiplier rows.
+TEST(StaticPetsc, AutomaticChoosesMultigridBySize) {
+  if (!petsc_here()) return;
+  const auto chosen = [](int knots, const std::string& extra_support) {
+    std::string text = roof("auto", true, knots);
+    text.replace(text.find("kl_loads:"), 0, extra_support);
+    const model::Model m = io::read_model_string(text, "roof.yaml");
+    const system::System sys = system::System::compile(m);
+    const integrate::StaticEquilibrium eq(sys, m.solver);
+    return std::make_pair(eq.unknowns(), std::string(eq.linear_solver()));
+  };
+  const auto [small, small_solver] = chosen(120, "");
+  EXPECT_LT(small, integrate::kAutomaticMultigridUnknowns);
+  EXPECT_EQ(small_solver, "direct");
+  const auto [large, large_solver] = chosen(127, "");
+  EXPECT_GE(large, integrate::kAutomaticMultigridUnknowns);
+  EXPECT_EQ(large_solver, "cg_multigrid");
+  const auto [rows, rows_solver] =
+      chosen(127, "  - {shell: roof, edge: u0, symmetry: [1, 0, 0]}\n");
+  EXPECT_GE(rows, integrate::kAutomaticMultigridUnknowns);
+  EXPECT_EQ(rows_solver, "direct");
+}

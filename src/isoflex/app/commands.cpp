@@ -251,6 +251,13 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
   fmt::print(out,
              "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
              eq.unknowns());
+  const std::string_view solver_name = eq.linear_solver();
+  if (solver_name != "direct")
+    fmt::print(out, "linear solver    {}  (PETSc{}; docs/theory/solvers.md)\n", solver_name,
+               solver.linear_solver == model::LinearSolver::automatic
+                   ? fmt::format(", chosen by size: geometric multigrid from {} unknowns",
+                                 integrate::kAutomaticMultigridUnknowns)
+                   : "");
 }
 
 // What a user can change after a step or load step that Newton could not solve (appended to
@@ -769,10 +776,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       sum.n_unknowns = equilibrium.unknowns();
       sum.dt = m.solver.t_end / equilibrium.settings().steps;
       linear = m.solver.linear ? "linear" : "nonlinear";
-      const bool petsc =
-          equilibrium.settings().linear_solver != integrate::LinearSolverMethod::automatic &&
-          equilibrium.settings().linear_solver != integrate::LinearSolverMethod::direct;
-      if (petsc) sum.linear_solver = model::to_string(m.solver.linear_solver);
+      const bool petsc = std::string_view(equilibrium.linear_solver()) != "direct";
+      if (petsc) sum.linear_solver = equilibrium.linear_solver();
       doing =
           fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
       const integrate::StaticResult result =

@@ -63,6 +63,7 @@ class StaticEquilibrium {
            (multipliers() - implied_multipliers());
   }
   const StaticSettings& settings() const { return solver_.settings(); }
+  const char* linear_solver() const { return solver_.linear_solver(); }
   bool linear() const { return linear_; }
   // The load stepping from (q₀, 0); observer(stats, x) after every accepted load step with
   // x = (q, λ) (q = x.head(sys.n())). Throws NewtonFailure when a step fails for good.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <type_traits>
@@ -79,7 +80,8 @@ struct StaticNewtonSolver::Impl {
   solve::FixedPatternCholesky cholesky;
   solve::FixedPatternLU lu;
   solve::SaddlePointSolver saddle;
-  std::unique_ptr<solve::KrylovSolver> krylov;  // a PETSc solver (settings.linear_solver)
+  std::optional<solve::KrylovMethod> petsc;     // the PETSc solver in use (choose_petsc)
+  std::unique_ptr<solve::KrylovSolver> krylov;  // made on first use
   int pattern_version = 0;                      // A's pattern, counted by build_reduction
   int krylov_pattern = -1;                      // the version the PETSc solver last saw
   // The tolerance of the next PETSc solve, ‖b − A x‖₂ ≤ max(rtol ‖b‖₂, atol): a Newton step sets
@@ -260,31 +262,32 @@ struct StaticNewtonSolver::Impl {
     return with(lu);
   }
 
-  bool use_krylov() const {
+  bool use_krylov() const { return petsc.has_value(); }
+  solve::KrylovMethod krylov_method() const { return *petsc; }
+
+  // The PETSc solver of settings.linear_solver; automatic: geometric multigrid for a model of
+  // Kirchhoff–Love patches from kAutomaticMultigridUnknowns unknowns on, where its Newton matrix
+  // is one it takes (no multiplier rows, no tied coordinates, symmetric) and the module loads;
+  // else none (CHOLMOD, as below that size).
+  std::optional<solve::KrylovMethod> choose_petsc() const {
     switch (settings.linear_solver) {
       case LinearSolverMethod::cg_gamg:
-      case LinearSolverMethod::cg_hypre:
-      case LinearSolverMethod::mumps:
-      case LinearSolverMethod::cg_multigrid:
-        return true;
-      case LinearSolverMethod::automatic:
-      case LinearSolverMethod::direct:
-        break;
-    }
-    return false;
-  }
-
-  solve::KrylovMethod krylov_method() const {
-    switch (settings.linear_solver) {
+        return solve::KrylovMethod::cg_gamg;
       case LinearSolverMethod::cg_hypre:
         return solve::KrylovMethod::cg_hypre;
       case LinearSolverMethod::mumps:
         return solve::KrylovMethod::mumps;
       case LinearSolverMethod::cg_multigrid:
         return solve::KrylovMethod::cg_multigrid;
-      default:
-        return solve::KrylovMethod::cg_gamg;
+      case LinearSolverMethod::direct:
+        return std::nullopt;
+      case LinearSolverMethod::automatic:
+        break;
     }
+    if (nf < kAutomaticMultigridUnknowns || m > 0 || nf_configuration < nf || !problem.symmetric ||
+        !problem.transfer_operators || !dofs.slaves.empty() || !solve::krylov_available())
+      return std::nullopt;
+    return solve::KrylovMethod::cg_multigrid;
   }
 
   // The PETSc solver, on first use. What the model cannot have (a module that does not load, a
@@ -676,6 +679,7 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
       throw std::invalid_argument(fmt::format(
           "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
     }
+  I.petsc = I.choose_petsc();
   const PathSettings& p = s.path;
   if (p.control == PathControl::load) return;
   if (I.problem.linear)
@@ -716,6 +720,9 @@ int StaticNewtonSolver::implied_multiplier_rows() const {
 }
 const StaticSettings& StaticNewtonSolver::settings() const {
   return impl_->settings;
+}
+const char* StaticNewtonSolver::linear_solver() const {
+  return impl_->petsc ? solve::krylov_method_name(*impl_->petsc) : "direct";
 }
 
 StaticResult StaticNewtonSolver::solve(const StaticObserver& observer) {

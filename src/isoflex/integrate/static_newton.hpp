@@ -126,8 +126,12 @@ inline constexpr int kIterativeSaddlePointUnknowns = 20000;
 // NURBS patches (StaticProblem::transfer_operators), as an inexact Newton (the forcing term of
 // docs/theory/solvers.md §3), or MUMPS's Cholesky. A PETSc solve that fails (not positive
 // definite past a limit point, no convergence) falls back to the direct solvers, counted in
-// LoadStepStats::linear_solver_fallbacks. automatic: direct.
+// LoadStepStats::linear_solver_fallbacks. automatic: geometric multigrid from
+// kAutomaticMultigridUnknowns unknowns on for a model of Kirchhoff–Love patches whose Newton
+// matrix has no multiplier rows and no tied coordinates (where PETSc loads), else direct: the
+// crossover of bench/large_shells.md.
 enum class LinearSolverMethod { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
+inline constexpr int kAutomaticMultigridUnknowns = 50000;
 
 struct StaticSettings {
   double t_end = 1.0;
@@ -199,6 +203,9 @@ class StaticNewtonSolver {
   // Multiplier rows implied by the tied rows (and the others): kept with the equation μᵢ = 0.
   int implied_multiplier_rows() const;
   const StaticSettings& settings() const;
+  // "direct" (CHOLMOD, UMFPACK, the saddle-point solver), or the PETSc solver of the Newton
+  // matrices without rows (StaticSettings::linear_solver; automatic: by size).
+  const char* linear_solver() const;
 
  private:
   struct Impl;

@@ -41,6 +41,13 @@ constexpr MatrixBytes kKLMatrixBytes{100, 170}, kBeamMatrixBytes{100, 120},
 // 1.2·10⁴–4.6·10⁴ unknowns) at 9.5 bytes per entry (UMFPACK_PEAK_MEMORY / (lnz + unz)): 20
 // bytes; 28 with margin.
 constexpr double kFactorBytesPerEntry = 28.0;
+// Per non-zero of the stiffness pattern on the PETSc path (docs/theory/solvers.md §3–4), which
+// has no factorization of the whole matrix and no 64-bit copy: the matrices as for the direct
+// path, less that copy, and the preconditioner (the Galerkin matrices of the coarse levels, about
+// a third of the fine one's entries, the smoother's block factors, PETSc's work vectors). Set from
+// the peaks of `isoflex run` on the whole Scordelis–Lo roof (bench/large_shells.md): 17.2 GB at
+// 1.0·10⁶ unknowns (1.46·10⁸ entries), about 110 B per entry with the model data; 130 with margin.
+constexpr double kIterativeBytesPerEntry = 130.0;
 
 // Nested dissection of a 2D grid of N nodes with d unknowns per node and coupling reach w (a
 // B-spline of degree p couples control points p apart, so a separator is p rows wide): the
@@ -68,6 +75,7 @@ std::string count(double x) {
 void finish(MemoryPart& part, double coordinates, double nnz, double factor_entries,
             MatrixBytes per_entry, double model_data) {
   part.unknowns = coordinates;
+  part.nnz = nnz;
   part.data_bytes += coordinates * kBytesPerCoordinate + model_data;
   part.matrix_bytes = nnz * per_entry.run;
   part.factor_bytes = factor_entries * kFactorBytesPerEntry;
@@ -138,6 +146,34 @@ MemoryPart director_shell_grid(double nu, double nv) {
   return shell_part((nu + 1) * (nv + 1), nu * nv);
 }
 
+namespace {
+
+// Whether a static run solves with a PETSc iterative solver (integrate/static_newton.hpp
+// LinearSolverMethod): asked for, or automatic for Kirchhoff–Love patches alone, held by
+// eliminated components only (no multiplier or tied rows), from 50 000 unknowns on.
+bool iterative_solver(const model::Model& m, const MemoryEstimate& parts) {
+  using model::LinearSolver;
+  if (m.solver.analysis != model::Analysis::statics) return false;
+  switch (m.solver.linear_solver) {
+    case LinearSolver::cg_gamg:
+    case LinearSolver::cg_hypre:
+    case LinearSolver::cg_multigrid:
+      return true;
+    case LinearSolver::direct:
+    case LinearSolver::mumps:
+      return false;
+    case LinearSolver::automatic:
+      break;
+  }
+  const bool fixed_only =
+      std::all_of(m.kl_supports.begin(), m.kl_supports.end(),
+                  [](const model::KLSupport& s) { return s.kind == model::KLSupportKind::fixed; });
+  return m.kl_shells.size() == 1 && m.bodies.empty() && m.beams.empty() && m.shells.empty() &&
+         fixed_only && parts.unknowns() >= 50000;
+}
+
+}  // namespace
+
 MemoryEstimate estimate_memory(const model::Model& m) {
   const bool dynamic = m.solver.analysis != model::Analysis::statics;
   MemoryEstimate est;
@@ -150,6 +186,13 @@ MemoryEstimate estimate_memory(const model::Model& m) {
     part.what = fmt::format("shells[{}]", i);
     part.source = s.source;
     est.parts.push_back(part);
+  }
+  if (iterative_solver(m, est)) {
+    est.factor_label = "preconditioner";
+    for (MemoryPart& p : est.parts) {
+      p.matrix_bytes = p.nnz * kIterativeBytesPerEntry;
+      p.factor_bytes = 0.0;
+    }
   }
   if (!m.bodies.empty()) {
     MemoryPart part;
@@ -196,8 +239,11 @@ std::string MemoryEstimate::breakdown() const {
     matrices += p.matrix_bytes;
     factor += p.factor_bytes;
   }
-  return fmt::format("{} unknowns: sparse LU {}, sparse matrices {}, model data {}",
-                     count(unknowns()), format_bytes(factor), format_bytes(matrices),
+  if (factor == 0.0)
+    return fmt::format("{} unknowns: sparse matrices and {} {}, model data {}", count(unknowns()),
+                       factor_label, format_bytes(matrices), format_bytes(data));
+  return fmt::format("{} unknowns: {} {}, sparse matrices {}, model data {}", count(unknowns()),
+                     factor_label, format_bytes(factor), format_bytes(matrices),
                      format_bytes(data));
 }
 

@@ -24,12 +24,17 @@ struct MemoryPart {
   double matrix_bytes = 0;   // the sparse matrices (stiffness, mass, Newton matrix, copies)
   double factor_bytes = 0;   // the sparse LU of the Newton matrix
   double compile_bytes = 0;  // of the above, what System::compile allocates (`check`)
+  double nnz = 0;            // non-zeros of its stiffness pattern
   double bytes() const { return data_bytes + matrix_bytes + factor_bytes; }
 };
 
 struct MemoryEstimate {
   std::vector<MemoryPart> parts;
-  double base_bytes = 0;   // the process itself (libraries, small model parts)
+  double base_bytes = 0;  // the process itself (libraries, small model parts)
+  // What factor_bytes is: the sparse LU of the direct solvers, or nothing of its own on the
+  // PETSc path (a static run with an iterative solver: docs/memory.md), where the matrix bytes
+  // hold the preconditioner.
+  std::string factor_label = "sparse LU";
   double total() const;    // what a run needs
   double compile() const;  // what `check` needs (no factorization, no Newton matrix)
   double unknowns() const;
