@@ -4,24 +4,12 @@
 
 #include <random>
 
-#include "isoflex/geometry/bspline_basis.hpp"
 #include "isoflex/geometry/knot_hierarchy.hpp"
 #include "isoflex/math/types.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using geometry::KnotVector;
-
-namespace {
-
-// All basis functions of kv at u (zero outside the p + 1 non-zero ones).
-VecX all_functions(const KnotVector& kv, double u) {
-  const geometry::Basis1D b = geometry::bspline_basis(kv, u, 0);
-  VecX N = VecX::Zero(kv.n_basis());
-  for (int j = 0; j <= kv.degree(); ++j) N(b.span - kv.degree() + j) = b.ders(0, j);
-  return N;
-}
-
-}  // namespace
 
 TEST(KnotHierarchy, CoarseningDropsEveryOtherSimpleKnotAndKeepsRepeatedOnes) {
   // Degree 3; interior knots 0.1 … 0.9 simple, 0.5 double (a joint of the geometry).
@@ -52,8 +40,8 @@ TEST(KnotHierarchy, InsertionMatrixWritesTheCoarseBasisInTheFineOne) {
     double worst = 0.0;
     for (int k = 0; k < 200; ++k) {
       const double u = k == 0 ? 0.0 : k == 1 ? 1.0 : u01(g);
-      const VecX Nf = all_functions(fine, u), Nm = all_functions(mid, u),
-                 Nc = all_functions(coarse, u);
+      const VecX Nf = test::all_basis_functions(fine, u), Nm = test::all_basis_functions(mid, u),
+                 Nc = test::all_basis_functions(coarse, u);
       worst = std::max(worst, (VecX(A.transpose() * Nf) - Nm).cwiseAbs().maxCoeff());
       worst = std::max(worst, (VecX((A * B).transpose() * Nf) - Nc).cwiseAbs().maxCoeff());
     }

@@ -11,6 +11,7 @@
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/solve/krylov_solver.hpp"
 #include "isoflex/system/system.hpp"
+#include "support/petsc.hpp"
 
 using namespace isoflex;
 
@@ -64,19 +65,12 @@ Solved solve_roof(const std::string& solver, bool linear, int knots = 30) {
   return out;
 }
 
-bool petsc_here() {
-  std::string why;
-  if (solve::krylov_available(&why)) return true;
-  ADD_FAILURE() << why;
-  return false;
-}
-
 }  // namespace
 
 // Linear: one solve, to a tenth of the Newton tolerance (10⁻¹¹ of the load): the displacements
 // agree with CHOLMOD's to 10⁻⁸ of their size, which the roof's condition number allows.
 TEST(StaticPetsc, LinearSolvesAgreeWithTheDirectSolver) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Solved direct = solve_roof("direct", true);
   EXPECT_EQ(direct.krylov_iterations, 0);
   const double size = (direct.q - solve_roof("direct", true, 30).q).norm();  // 0: deterministic
@@ -100,7 +94,7 @@ TEST(StaticPetsc, LinearSolvesAgreeWithTheDirectSolver) {
 // min(10⁻², ‖R‖/scale)) reaches the same equilibrium as Newton with the direct solver, in at
 // most two more iterations per step.
 TEST(StaticPetsc, InexactNewtonReachesTheSameEquilibrium) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Solved direct = solve_roof("direct", false);
   for (const char* method : {"cg_gamg", "cg_multigrid"}) {
     const Solved s = solve_roof(method, false);
@@ -117,7 +111,7 @@ TEST(StaticPetsc, InexactNewtonReachesTheSameEquilibrium) {
 // the coarsest level's Cholesky factorization alone: one CG iteration, and a second where the
 // round-off of the first is above the tolerance (a tenth of the Newton tolerance).
 TEST(StaticPetsc, MultigridOnASmallPatchIsItsCoarsestLevel) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Solved direct = solve_roof("direct", true, 8);
   const Solved s = solve_roof("cg_multigrid", true, 8);
   EXPECT_LT((s.q - direct.q).cwiseAbs().maxCoeff(), 1e-10);
@@ -129,7 +123,7 @@ TEST(StaticPetsc, MultigridOnASmallPatchIsItsCoarsestLevel) {
 // `auto` (integrate::kAutomaticMultigridUnknowns): geometric multigrid for patches without rows
 // from 50 000 unknowns on, the direct solver below and wherever the matrix has multiplier rows.
 TEST(StaticPetsc, AutomaticChoosesMultigridBySize) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const auto chosen = [](int knots, const std::string& extra_support) {
     std::string text = roof("auto", true, knots);
     text.replace(text.find("kl_loads:"), 0, extra_support);

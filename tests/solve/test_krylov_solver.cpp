@@ -8,6 +8,7 @@
 
 #include "isoflex/solve/krylov_solver.hpp"
 #include "isoflex/solve/linear_solver.hpp"
+#include "support/petsc.hpp"
 
 using namespace isoflex;
 using solve::KrylovMethod;
@@ -78,13 +79,6 @@ VecX random_load(int n) {
   return b;
 }
 
-bool petsc_here() {
-  std::string why;
-  if (solve::krylov_available(&why)) return true;
-  ADD_FAILURE() << why;  // the build has the module (scripts/setup.sh installs petsc-dev)
-  return false;
-}
-
 }  // namespace
 
 TEST(RigidBodyModes, AreTheNullSpaceOfAFreeSpringNetwork) {
@@ -112,7 +106,7 @@ TEST(RigidBodyModes, AreZeroOutsideThePoints) {
 // Each PETSc method solves the held network as CHOLMOD does (tolerance 10⁻¹², so that the
 // solutions agree to the condition number times that).
 TEST(KrylovSolver, EachMethodSolvesAsCholeskyDoes) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Network net = spring_network(10, 6, 4, 50.0);
   const VecX b = random_load(static_cast<int>(net.K.rows()));
   solve::FixedPatternCholesky cholesky;
@@ -137,7 +131,7 @@ TEST(KrylovSolver, EachMethodSolvesAsCholeskyDoes) {
 
 // The tolerance is max(rtol ‖b‖₂, atol): a loose one stops earlier and is still met.
 TEST(KrylovSolver, StopsAtTheToleranceItIsGiven) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Network net = spring_network(10, 6, 4, 50.0);
   const VecX b = random_load(static_cast<int>(net.K.rows()));
   solve::KrylovSolver solver(KrylovMethod::cg_gamg);
@@ -155,7 +149,7 @@ TEST(KrylovSolver, StopsAtTheToleranceItIsGiven) {
 // Newton's matrices change their values in the same arrays: the solver must see the new ones
 // (the multigrid hierarchy recomputed on them), and a new pattern when it is told of one.
 TEST(KrylovSolver, SeesNewValuesInTheSameArraysAndANewPattern) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   Network net = spring_network(8, 5, 3, 50.0);
   const VecX b = random_load(static_cast<int>(net.K.rows()));
   for (KrylovMethod method : {KrylovMethod::cg_gamg, KrylovMethod::mumps}) {
@@ -183,7 +177,7 @@ TEST(KrylovSolver, SeesNewValuesInTheSameArraysAndANewPattern) {
 // A solve that does not reach its tolerance throws (the static solver then falls back to the
 // direct solvers), with PETSc's reason.
 TEST(KrylovSolver, ThrowsWhenItDoesNotConverge) {
-  if (!petsc_here()) return;
+  ISOFLEX_REQUIRE_PETSC();
   const Network net = spring_network(10, 6, 4, 50.0);
   const VecX b = random_load(static_cast<int>(net.K.rows()));
   solve::KrylovSolver solver(KrylovMethod::cg_gamg);

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "isoflex/geometry/bspline_basis.hpp"
 #include "isoflex/geometry/knot_vector.hpp"
 #include "isoflex/geometry/nurbs_curve.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
@@ -20,6 +21,14 @@ namespace isoflex::test {
 
 // π, for angles in the tests.
 inline constexpr double kPi = std::numbers::pi;
+
+// All n basis functions of kv at u, zero outside the p + 1 non-zero ones.
+inline VecX all_basis_functions(const geometry::KnotVector& kv, double u) {
+  const geometry::Basis1D b = geometry::bspline_basis(kv, u, 0);
+  VecX N = VecX::Zero(kv.n_basis());
+  for (int j = 0; j <= kv.degree(); ++j) N(b.span - kv.degree() + j) = b.ders(0, j);
+  return N;
+}
 
 // Scientific notation for RecordProperty (std::to_string prints 0.000000 for 1e-15).
 inline std::string sci(double v) {

@@ -6,12 +6,12 @@
 
 #include <random>
 
-#include "isoflex/geometry/bspline_basis.hpp"
 #include "isoflex/geometry/knot_hierarchy.hpp"
 #include "isoflex/geometry/nurbs_surface.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "isoflex/system/kl_multigrid.hpp"
 #include "isoflex/system/system.hpp"
+#include "support/geometry.hpp"
 
 using namespace isoflex;
 using geometry::KnotVector;
@@ -30,13 +30,6 @@ kl_shells:
 bodies:
   - {name: lump, mass: 2, inertia: [1, 1, 1], position: [0, 0, -10]}
 )";
-
-VecX all_functions(const KnotVector& kv, double u) {
-  const geometry::Basis1D b = geometry::bspline_basis(kv, u, 0);
-  VecX N = VecX::Zero(kv.n_basis());
-  for (int j = 0; j <= kv.degree(); ++j) N(b.span - kv.degree() + j) = b.ders(0, j);
-  return N;
-}
 
 }  // namespace
 
@@ -73,11 +66,11 @@ TEST(KLMultigrid, CoarseFunctionsAreFunctionsOfTheFinePatch) {
       for (int a = 0; a < B.R.cols(); ++a)
         fine += B.R(0, a) *
                 x.segment<3>(sys.q_offset(P.nodes[static_cast<std::size_t>(B.global_index(S, a))]));
-      const VecX Nu = all_functions(S.u, xi), Nv = all_functions(S.v, eta);
+      const VecX Nu = test::all_basis_functions(S.u, xi), Nv = test::all_basis_functions(S.v, eta);
       double W = 0.0;
       for (int j = 0; j < S.n_v(); ++j)
         for (int i = 0; i < S.n_u(); ++i) W += Nu(i) * Nv(j) * S.weights[S.index(i, j)];
-      const VecX Cu = all_functions(cu, xi), Cv = all_functions(cv, eta);
+      const VecX Cu = test::all_basis_functions(cu, xi), Cv = test::all_basis_functions(cv, eta);
       Vec3 coarse = Vec3::Zero();
       for (int j = 0; j < cv.n_basis(); ++j)
         for (int i = 0; i < cu.n_basis(); ++i)
