@@ -197,9 +197,9 @@ class PetscKrylov final : public KrylovBackend {
   // level count + 1 − l. The coarse matrices are the Galerkin products Pᵀ A P; the coarsest is
   // factorized (Cholesky). The smoother of the others is Chebyshev (PETSc's default, two steps)
   // on block Jacobi with blocks of about kSmootherBlock consecutive unknowns, each factorized:
-  // strips of control-point rows, which hold the bending modes that a point smoother (SOR) and
-  // the coarse spline spaces, stiffer on a thin shell (locking), both miss —
-  // docs/theory/solvers.md §4 has the iteration counts. PETSC_OPTIONS overrides any of it.
+  // strips of control-point rows. With point smoothers (SOR) the CG iterations doubled with every
+  // level on a thin shell; with these blocks they barely grow (docs/theory/solvers.md §4 has the
+  // counts). PETSC_OPTIONS overrides any of it.
   void setup_multigrid(PC pc) {
     if (interpolations_.empty()) {
       // A model no larger than the coarsest level: that level's factorization is the solve.
