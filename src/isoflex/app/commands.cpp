@@ -633,6 +633,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sys.set_threads(o.threads > 0
                       ? o.threads
                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  // A static analysis evaluates a linear patch's tangent once per load step: no kept copy.
+  if (statics) sys.keep_linear_tangent(false);
   // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
   // statics); made inside the run's try block, so that a numerical failure there ends the run
   // like a failing step.

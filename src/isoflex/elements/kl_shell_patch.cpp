@@ -420,7 +420,7 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
       }
     }
   });
-  if (tangent && linear) {
+  if (tangent && linear && keep_linear_tangent_) {
     const std::lock_guard<std::mutex> lock(m.linear_mutex);
     m.linear_values.assign(values, values + nnz);
   }

@@ -45,8 +45,8 @@ constexpr double kFactorBytesPerEntry = 28.0;
 // has no factorization of the whole matrix and no 64-bit copy: the matrices as for the direct
 // path, less that copy, and the preconditioner (the Galerkin matrices of the coarse levels, about
 // a third of the fine one's entries, the smoother's block factors, PETSc's work vectors). Set from
-// the peaks of `isoflex run` on the whole Scordelis–Lo roof (bench/large_shells.md): 17.2 GB at
-// 1.0·10⁶ unknowns (1.46·10⁸ entries), about 110 B per entry with the model data; 130 with margin.
+// the peaks of `isoflex run` on the whole Scordelis–Lo roof (bench/large_shells.md): 15.4–16.5 GB
+// at 1.0·10⁶ unknowns (1.46·10⁸ entries), 113–121 B per entry with the model data; 130 with margin.
 constexpr double kIterativeBytesPerEntry = 130.0;
 
 // Nested dissection of a 2D grid of N nodes with d unknowns per node and coupling reach w (a

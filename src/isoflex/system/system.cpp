@@ -103,9 +103,17 @@ int System::joint_of_row(int row) const {
 }
 
 void System::set_threads(int threads) {
+  configure_kl_patches([threads](elements::KLShellPatch& p) { p.set_threads(threads); });
+}
+
+void System::keep_linear_tangent(bool keep) {
+  configure_kl_patches([keep](elements::KLShellPatch& p) { p.set_keep_linear_tangent(keep); });
+}
+
+void System::configure_kl_patches(const std::function<void(elements::KLShellPatch&)>& set) {
   for (KLPatchInstance& P : kl_patches_) {
     auto patch = std::make_shared<elements::KLShellPatch>(P.element->patch());  // shares the data
-    patch->set_threads(threads);
+    set(*patch);
     auto element = std::make_unique<elements::KLPatchElement>(std::move(patch),
                                                               P.element->kinematics(), P.nodes);
     P.element = element.get();

@@ -363,6 +363,9 @@ class System {
   // Threads of the Kirchhoff–Love patch assembly (elements::KLShellPatch::set_threads; results do
   // not depend on it).
   void set_threads(int threads);
+  // Whether the patches keep their constant linear tangent between evaluations
+  // (elements::KLShellPatch::set_keep_linear_tangent; results do not depend on it).
+  void keep_linear_tangent(bool keep);
   // The fixed pattern of discrete_force's K.
   const GlobalMatrix& stiffness_pattern() const { return stiffness_; }
   const std::vector<BeamInstance>& beams() const { return beams_; }
@@ -409,6 +412,8 @@ class System {
   void add_beams(Build& build);
   void add_shells(Build& build);
   void add_kl_patches(const model::Model& m);  // system_kl_patches.cpp
+  // Each patch's element made anew on a copy of its patch (sharing the data) that `set` adjusts.
+  void configure_kl_patches(const std::function<void(elements::KLShellPatch&)>& set);
   void add_kl_couplings(const model::Model& m);
   void finish_nodes(Build& build);
   void assemble_mass();
