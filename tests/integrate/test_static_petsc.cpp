@@ -143,3 +143,26 @@ TEST(StaticPetsc, AutomaticChoosesMultigridBySize) {
   EXPECT_GE(rows, integrate::kAutomaticMultigridUnknowns);
   EXPECT_EQ(rows_solver, "direct");
 }
+
+// A static run keeps no copy of a linear patch's constant tangent (System::keep_linear_tangent,
+// set by `isoflex run`): the tangent is evaluated instead of copied, with the same values, so the
+// solution is the same to the last bit, over several load steps.
+TEST(StaticPetsc, NoKeptLinearTangentGivesTheSameSolution) {
+  std::string text = roof("direct", true, 12);
+  text.replace(text.find("dt: 1"), 5, "dt: 0.25");
+  const model::Model m = io::read_model_string(text, "roof.yaml");
+  const auto solve_with = [&](bool keep) {
+    system::System sys = system::System::compile(m);
+    sys.keep_linear_tangent(keep);
+    integrate::StaticEquilibrium eq(sys, m.solver);
+    std::vector<VecX> steps;
+    eq.solve([&](const integrate::LoadStepStats&, const VecX& x) { steps.push_back(x); });
+    return steps;
+  };
+  const std::vector<VecX> kept = solve_with(true), not_kept = solve_with(false);
+  ASSERT_EQ(kept.size(), 4u);
+  ASSERT_EQ(not_kept.size(), kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    EXPECT_EQ((kept[k] - not_kept[k]).cwiseAbs().maxCoeff(), 0.0) << "load step " << k + 1;
+  EXPECT_GT((kept.back() - kept.front()).cwiseAbs().maxCoeff(), 1e-3);  // the roof moved
+}
