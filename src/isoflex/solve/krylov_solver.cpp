@@ -101,8 +101,6 @@ VecX KrylovSolver::solve(const Eigen::SparseMatrix<double>& A, bool new_pattern,
   const CsrView view{static_cast<int>(A.rows()), 0, A.outerIndexPtr(), A.innerIndexPtr(),
                      A.valuePtr()};
   VecX x = VecX::Zero(b.size());
-  new_pattern = new_pattern || last_matrix_ != static_cast<const void*>(&A);
-  last_matrix_ = &A;
   last_ = backend_->solve(view, new_pattern, b.data(), x.data(), rtol, atol, max_iterations);
   return x;
 }

@@ -43,7 +43,8 @@ class KrylovSolver {
   void set_interpolations(const std::vector<Eigen::SparseMatrix<double>>& P);
   // A symmetric and compressed, both triangles stored; it must stay alive and in place while
   // it is the last matrix solved (PETSc reads its arrays in place). `new_pattern`: A's pattern
-  // differs from the last call's. Solves to ‖b − A x‖₂ ≤ max(rtol ‖b‖₂, atol).
+  // differs from the last call's (other arrays are seen by the module itself). Solves to ‖b − A x‖₂
+  // ≤ max(rtol ‖b‖₂, atol).
   VecX solve(const Eigen::SparseMatrix<double>& A, bool new_pattern, const VecX& b, double rtol,
              double atol, int max_iterations = 5000);
   const KrylovReport& last() const { return last_; }
@@ -52,7 +53,6 @@ class KrylovSolver {
   KrylovMethod method_;
   std::unique_ptr<KrylovBackend> backend_;
   KrylovReport last_;
-  const void* last_matrix_ = nullptr;
   std::vector<Eigen::SparseMatrix<double, Eigen::RowMajor>> interpolations_;  // PETSc reads them
 };
 
