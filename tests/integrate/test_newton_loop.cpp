@@ -2,7 +2,7 @@
 // grows by orders of magnitude is reported as diverged, with the scale of the start value (a
 // diverged iterate's scale would be meaningless); one that merely runs out of iterations is not.
 // Skipping the last Newton matrix by the quadratic-convergence prediction leaves the iterates
-// unchanged.
+// unchanged; chord corrections near the root reach the same root with fewer matrices.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,25 +44,28 @@ std::string failure(double x0, int max_iterations, bool stop_when_diverging = fa
   return integrate::failure_message("step 7", o, opt.residual_tolerance);
 }
 
-// Newton on r(x) = x³ − 8 from x = 3, counting the matrices it asks for.
+// Newton on r(x) = x³ − 8 from x = 3, counting the matrices it asks for; a correction uses the
+// slope of the last matrix.
 struct Cubic {
-  double x = 3.0;
+  double x = 3.0, slope = 0.0;
   int matrices = 0;
   std::vector<double> iterates;
-  NewtonOutcome run(bool predict) {
+  NewtonOutcome run(bool predict, double chord = 0.0) {
     NewtonOptions opt;
     opt.max_iterations = 50;
     opt.residual_tolerance = 1e-13;
     opt.predict_last_matrix = predict;
+    opt.chord_contraction = chord;
     return integrate::newton_loop(
         opt,
         [&](bool matrix) {
+          if (matrix) slope = 3.0 * x * x;
           matrices += matrix;
           return VecX::Constant(1, x * x * x - 8.0);
         },
         [] { return 8.0; },
         [&](const VecX& R) {
-          x -= R(0) / (3.0 * x * x);
+          x -= R(0) / slope;
           iterates.push_back(x);
           return false;
         });
@@ -124,4 +127,21 @@ TEST(NewtonLoop, PredictingTheLastMatrixKeepsTheIterates) {
   // The matrix at the converged iterate is never asked for: one matrix per correction.
   EXPECT_EQ(plain.matrices, a.iterations + 1);
   EXPECT_EQ(predicted.matrices, b.iterations);
+}
+
+TEST(NewtonLoop, ChordCorrectionsNearTheRootReachItWithFewerMatrices) {
+  Cubic plain, chord;
+  const NewtonOutcome a = plain.run(false), b = chord.run(false, 1e-2);
+  ASSERT_TRUE(a.converged);
+  ASSERT_TRUE(b.converged);
+  // |r| = 19, 4.1, 0.47, 8.5e-3 (÷55), 2.6e-6 (÷3300: chord from here), ...
+  // Both stop at |r| ≤ 10⁻¹³ · 8, i.e. |x − 2| ≤ 8·10⁻¹³/12.
+  EXPECT_NEAR(chord.x, 2.0, 7e-14);
+  EXPECT_NEAR(plain.x, 2.0, 7e-14);
+  EXPECT_EQ(plain.matrices, a.iterations + 1);
+  EXPECT_EQ(chord.matrices, 5);
+  EXPECT_LT(chord.matrices, plain.matrices);
+  EXPECT_LE(b.iterations, a.iterations + 1);
+  // The corrections before the chord are Newton's.
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(chord.iterates[k], plain.iterates[k]) << k;
 }

@@ -126,6 +126,54 @@ TEST(ReducedNewtonMatrix, PatternIsFixed) {
   EXPECT_LE(rn.analyses(), 1);
 }
 
+// A solve without refactorization (the chord corrections of newton_loop) uses the factors of the
+// last matrix: the same solution as refactorizing it, one factorization fewer, also after
+// residual-only evaluations elsewhere.
+TEST(ReducedNewtonMatrix, AChordSolveReusesTheFactorization) {
+  const auto m = slider_crank();
+  const auto sys = system::System::compile(m);
+  EnergyMomentumIntegrator a(sys, m.solver);
+  integrate::ReducedNewtonMatrix rn(sys);
+  auto s = a.initial_state();
+  for (int i = 0; i < 3; ++i) a.step(s);
+  solve::NormalEquations normal;
+  system::SpMat J;
+  const double t_mid = s.t + 0.5 * m.solver.dt;
+  std::srand(5);
+  const VecX x = a.start_unknowns(s) + 1e-3 * VecX::Random(sys.k());
+  const VecX R = rn.evaluate(s.q, s.v, x, m.solver.dt, t_mid, normal, &J);
+  const VecX dx = rn.solve(J, -R);
+  EXPECT_EQ(rn.factorizations(), 1);
+  const VecX R2 = rn.evaluate(s.q, s.v, x + dx, m.solver.dt, t_mid, normal, nullptr);
+  const VecX chord = rn.solve(J, -R2, false);
+  EXPECT_EQ(rn.factorizations(), 1);
+  const VecX fresh = rn.solve(J, -R2, true);
+  EXPECT_EQ(rn.factorizations(), 2);
+  EXPECT_LT((chord - fresh).lpNorm<Eigen::Infinity>(), 1e-12 * fresh.lpNorm<Eigen::Infinity>());
+  EXPECT_LT((MatX(J) * chord + R2).lpNorm<Eigen::Infinity>(), 1e-10 * R2.lpNorm<Eigen::Infinity>());
+}
+
+// The residual scale of the block path, |𝖯(q)|ᵀ t from the kept paths and the directors, equals
+// the system's sum over the twist blocks (System::abs_tree_null_space_transpose) on trees with
+// root nodes, joint freedoms and rigid joints.
+TEST(ReducedNewtonMatrix, ResidualScaleIsTheSystemSum) {
+  for (const auto& m : {slider_crank(), test::chain(6), test::heavy_top()}) {
+    const auto sys = system::System::compile(m);
+    EnergyMomentumIntegrator a(sys, m.solver);
+    integrate::ReducedNewtonMatrix rn(sys);
+    auto s = a.initial_state();
+    for (int i = 0; i < 5; ++i) a.step(s);
+    std::srand(9);
+    const VecX t = VecX::Random(sys.n()).cwiseAbs();
+    const VecX expected = sys.abs_tree_null_space_transpose(s.q, t);
+    const VecX got = rn.abs_reduced_transpose(s.q, t);
+    ASSERT_EQ(got.size(), expected.size()) << m.name;
+    EXPECT_LT((got - expected).lpNorm<Eigen::Infinity>(),
+              1e-14 * expected.lpNorm<Eigen::Infinity>())
+        << m.name;
+  }
+}
+
 // Block LU in minimum-degree order equals a dense LU on a random block-sparse matrix (a block
 // tridiagonal chain of groups of widths 1…6 with an arrow to the last group).
 TEST(ReducedNewtonMatrix, BlockLUSolvesBlockSparseSystems) {
@@ -161,6 +209,17 @@ TEST(ReducedNewtonMatrix, BlockLUSolvesBlockSparseSystems) {
   integrate::BlockLU lu(offset, width, blocks);
   ASSERT_TRUE(lu.factorize(values));
   const VecX b = VecX::Random(size);
+  EXPECT_LT((A * lu.solve(b) - b).lpNorm<Eigen::Infinity>(), 1e-12);
+  // Pivot blocks that need row exchanges (a zero leading entry, 8 off the diagonal).
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const auto [g, h] = blocks[k];
+    if (g != h || width[g] < 2) continue;
+    integrate::BlockLU::Small P = integrate::BlockLU::Small::Zero(width[g], width[g]);
+    for (int r = 0; r < width[g]; ++r) P(r, (r + 1) % width[g]) = 8.0;
+    A.block(offset[g], offset[g], width[g], width[g]) += P - values[k];
+    values[k] = P;
+  }
+  ASSERT_TRUE(lu.factorize(values));
   EXPECT_LT((A * lu.solve(b) - b).lpNorm<Eigen::Infinity>(), 1e-12);
   // A singular pivot block is reported, not used.
   values[0].setZero();

@@ -1,7 +1,8 @@
 #include "isoflex/integrate/block_lu.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -68,7 +69,8 @@ using Small = BlockLU::Small;
 using Mat6 = Mat<6, 6>;
 
 // T −= A B (subtract) or T = A B, with fixed-size 6 × 6 products for full blocks (the common
-// case: root twists) and coefficient-based ones otherwise.
+// case: root twists) and plain loops otherwise (Eigen's dynamic-size products cost more in
+// their dispatch than in their arithmetic at these sizes).
 void multiply_subtract(const Small& A, const Small& B, Small& T, bool subtract) {
   if (A.rows() == 6 && A.cols() == 6 && B.cols() == 6) {
     const Mat6 P = Eigen::Map<const Mat6>(A.data()).lazyProduct(Eigen::Map<const Mat6>(B.data()));
@@ -76,27 +78,64 @@ void multiply_subtract(const Small& A, const Small& B, Small& T, bool subtract) 
       Eigen::Map<Mat6>(T.data()) -= P;
     else
       T = P;
-  } else if (subtract) {
-    T -= A.lazyProduct(B);
-  } else {
-    T = A.lazyProduct(B);
+    return;
   }
+  const Eigen::Index m = A.rows(), l = A.cols(), n = B.cols();
+  if (!subtract) T.setZero(m, n);
+  for (Eigen::Index c = 0; c < n; ++c)
+    for (Eigen::Index k = 0; k < l; ++k) {
+      const double b = B(k, c);
+      for (Eigen::Index r = 0; r < m; ++r) T(r, c) -= (subtract ? 1.0 : -1.0) * A(r, k) * b;
+    }
 }
 
-// D⁻¹ by partial pivoting; false if the ratio of the smallest to the largest pivot is below
-// 1e-12 (cheaper than rcond()).
-template <class M>
-bool invert_lu(const M& D, Small& inv) {
-  const Eigen::PartialPivLU<M> lu(D);
-  const auto d = lu.matrixLU().diagonal().cwiseAbs();
-  if (!(d.minCoeff() > 1e-12 * d.maxCoeff())) return false;
-  inv = lu.inverse();
-  return true;
-}
-
+// D⁻¹ by an LU factorization with partial pivoting (the pivots of Eigen's PartialPivLU) in
+// fixed-size arrays; false if the ratio of the smallest to the largest pivot is below 1e-12
+// (cheaper than rcond()).
 bool invert(const Small& D, Small& inv) {
-  if (D.rows() == 6) return invert_lu(Mat6(Eigen::Map<const Mat6>(D.data())), inv);
-  return invert_lu(D, inv);
+  const int n = static_cast<int>(D.rows());
+  double a[6][6];
+  int perm[6];
+  for (int r = 0; r < n; ++r) {
+    perm[r] = r;
+    for (int c = 0; c < n; ++c) a[r][c] = D(r, c);
+  }
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int r = k + 1; r < n; ++r)
+      if (std::abs(a[r][k]) > std::abs(a[p][k])) p = r;
+    if (p != k) {
+      std::swap(a[p], a[k]);
+      std::swap(perm[p], perm[k]);
+    }
+    const double pivot = a[k][k];
+    smallest = std::min(smallest, std::abs(pivot));
+    largest = std::max(largest, std::abs(pivot));
+    if (pivot == 0.0) return false;
+    for (int r = k + 1; r < n; ++r) {
+      const double l = a[r][k] / pivot;
+      a[r][k] = l;
+      for (int c = k + 1; c < n; ++c) a[r][c] -= l * a[k][c];
+    }
+  }
+  if (!(smallest > 1e-12 * largest)) return false;
+  inv.resize(n, n);
+  for (int j = 0; j < n; ++j) {  // column j of D⁻¹: L U x = P e_j
+    double x[6];
+    for (int r = 0; r < n; ++r) {
+      double t = perm[r] == j ? 1.0 : 0.0;
+      for (int c = 0; c < r; ++c) t -= a[r][c] * x[c];
+      x[r] = t;
+    }
+    for (int r = n - 1; r >= 0; --r) {
+      double t = x[r];
+      for (int c = r + 1; c < n; ++c) t -= a[r][c] * x[c];
+      x[r] = t / a[r][r];
+    }
+    for (int r = 0; r < n; ++r) inv(r, j) = x[r];
+  }
+  return true;
 }
 }  // namespace
 

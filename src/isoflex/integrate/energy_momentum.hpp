@@ -101,7 +101,9 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // ∂f_d/∂qₙ₊₁ (K, if not null, += it).
   bool dissipating(const State& s) const;
   VecX dissipative_force(const State& s, const VecX& q1, double dt, system::SpMat* K) const;
-  const VecX& correction(const NewtonMatrix& J, const VecX& R) const;
+  // −A⁻¹R for the kept matrix; `fresh`: A was evaluated since the last call (else its
+  // factorization is reused where one is kept: the chord corrections of newton_loop).
+  const VecX& correction(const NewtonMatrix& J, const VecX& R, bool fresh) const;
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;

@@ -35,6 +35,14 @@ struct NewtonOptions {
   // (‖R_k‖ ≈ ‖R_{k−1}‖ (‖R_{k−1}‖/‖R_{k−2}‖)² below the tolerance); if the prediction fails it is
   // evaluated at the same iterate, so the iterates do not change.
   bool predict_last_matrix = false;
+  // Chord corrections near the root: once a correction has reduced ‖R‖ by this factor or more
+  // (0: never), the next iterations reuse the last Newton matrix, and the caller its
+  // factorization, for as long as each keeps reducing ‖R‖ by the factor. Newton's error
+  // eₖ₊₁ ≈ C eₖ² becomes eₖ₊₁ ≈ C ‖xₖ − x_J‖ eₖ with x_J the iterate of the matrix, and
+  // C ‖xₖ − x_J‖ is about the last reduction: near the root a chord step gains as many digits as a
+  // Newton step and costs a residual and a solve with a kept factorization
+  // (docs/theory/schemes.md §6).
+  double chord_contraction = 0.0;
   // Corrections applied before the residual test may end the iteration (a bordered step whose
   // extra equation the start does not satisfy: displacement control).
   int min_corrections = 0;
@@ -76,9 +84,9 @@ class NewtonFailure : public std::runtime_error {
 
 // residual(with_matrix) → R at the current iterate, the Newton matrix kept when asked (a
 // std::runtime_error from the model fails the iteration); scale() → the residual scale at the
-// iterate just evaluated; correct(R) applies Δ = −A⁻¹R to the iterate and says whether Δ was at
-// round-off level (an exception fails the iteration). history, if given, receives ‖R‖∞ of
-// every evaluation.
+// iterate just evaluated; correct(R) applies Δ = −A⁻¹R to the iterate, A the last matrix kept,
+// and says whether Δ was at round-off level (an exception fails the iteration). history, if given,
+// receives ‖R‖∞ of every evaluation.
 template <class Residual, class Scale, class Correct>
 NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&& scale,
                           Correct&& correct, std::vector<double>* history = nullptr) {
@@ -107,7 +115,10 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
   for (int it = 0;; ++it) {
     out.iterations = it;
     bool with_matrix = it < opt.max_iterations;
-    if (with_matrix && opt.predict_last_matrix && it >= 2 && r_prev2 > 0.0)
+    const bool chord = with_matrix && it >= 2 && r_prev <= opt.chord_contraction * r_prev2;
+    if (chord)
+      with_matrix = false;
+    else if (with_matrix && opt.predict_last_matrix && it >= 2 && r_prev2 > 0.0)
       with_matrix = !(r_prev < r_prev2 && r_prev * (r_prev / r_prev2) * (r_prev / r_prev2) <=
                                               opt.residual_tolerance * out.scale);
     evaluate(with_matrix, it, true);
@@ -126,7 +137,7 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
       return out;
     }
     if (it == opt.max_iterations) break;
-    if (!with_matrix) {  // the prediction failed: the matrix after all, at the same iterate
+    if (!with_matrix && !chord) {  // the prediction failed: the matrix after all, here
       const VecX kept = R;
       evaluate(true, it, false);
       if (!out.reason.empty()) return out;

@@ -245,30 +245,32 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
 }
 
 namespace {
-// Pmᵀ K P1 for internal null spaces P = [I 0; 0 −d̂₁; 0 −d̂₂; 0 −d̂₃] (31), by 3 × 3 blocks: only
-// the rotation columns of P are not the identity. (The lazy products of the general expression
-// went coefficient by coefficient through non-inlined evaluators, 1900 instructions a call.)
-Mat<6, 6> project(const Mat<12, 6>& Pm, const Mat<12, 12>& K, const Mat<12, 6>& P1) {
-  Mat<12, 3> KP;  // columns 3–5 of K P1
-  for (int c = 0; c < 3; ++c) {
-    const Vec<9> s = P1.block<9, 1>(3, 3 + c);
-    for (int r = 0; r < 12; ++r) {
-      double t = 0.0;
-      for (int j = 0; j < 9; ++j) t += K(r, 3 + j) * s(j);
-      KP(r, c) = t;
+// Pmᵀ K P1 for the internal null spaces P = [I 0; 0 −d̂₁; 0 −d̂₂; 0 −d̂₃] (31) of the directors
+// dm (q_{n+½}) and d1 (q_{n+1}), by 3 × 3 blocks: only the rotation columns of P are not the
+// identity, and with a row k and a column x, −k d̂ = (d × kᵀ)ᵀ and −d̂ᵀ x = d × x.
+Mat<6, 6> project(const double* dm, const Mat<12, 12>& K, const double* d1) {
+  const auto cross_add = [](const double* d, const double* x, double* out) {
+    out[0] += d[1] * x[2] - d[2] * x[1];
+    out[1] += d[2] * x[0] - d[0] * x[2];
+    out[2] += d[0] * x[1] - d[1] * x[0];
+  };
+  Mat<12, 3> KP = Mat<12, 3>::Zero();  // columns 3–5 of K P1, row by row
+  for (int r = 0; r < 12; ++r) {
+    double row[3] = {0.0, 0.0, 0.0};
+    for (int I = 0; I < 3; ++I) {
+      const double k[3] = {K(r, 3 + 3 * I), K(r, 4 + 3 * I), K(r, 5 + 3 * I)};
+      cross_add(d1 + 3 * I, k, row);
     }
+    KP.row(r) << row[0], row[1], row[2];
   }
   Mat<6, 6> out;
   out.topLeftCorner<3, 3>() = K.topLeftCorner<3, 3>();
   out.topRightCorner<3, 3>() = KP.topRows<3>();
-  const Mat<9, 3> a = Pm.block<9, 3>(3, 3);
   for (int c = 0; c < 6; ++c) {
     const double* x = c < 3 ? K.col(c).data() : KP.col(c - 3).data();
-    for (int r = 0; r < 3; ++r) {
-      double t = 0.0;
-      for (int j = 0; j < 9; ++j) t += a(j, r) * x[3 + j];
-      out(3 + r, c) = t;
-    }
+    double col[3] = {0.0, 0.0, 0.0};
+    for (int I = 0; I < 3; ++I) cross_add(dm + 3 * I, x + 3 + 3 * I, col);
+    out.block<3, 1>(3, c) << col[0], col[1], col[2];
   }
   return out;
 }
@@ -297,8 +299,40 @@ void ReducedNewtonMatrix::twist_blocks(const VecX& q, std::vector<std::vector<Tw
   }
 }
 
+const VecX& ReducedNewtonMatrix::abs_reduced_transpose(const VecX& q, const VecX& t) const {
+  twist_blocks(q, Em_);
+  VecX& out = abs_reduced_;
+  out.setZero(sys_.k());
+  // Rows of P_int E: the translation rows of E, and −d̂_I ω = ω × d_I for the directors (31).
+  for (int i = 0; i < sys_.node_count(); ++i) {
+    const double* ti = t.data() + 12 * i;
+    for (std::size_t b = 0; b < path_[i].size(); ++b) {
+      const Twist& B = Em_[i][b];
+      const int first = groups_[path_[i][b]].offset;
+      for (int col = 0; col < B.cols(); ++col) {
+        const Vec3 w = B.col(col).tail<3>();
+        double sum = 0.0;
+        for (int r = 0; r < 3; ++r) sum += std::abs(B(r, col)) * ti[r];
+        for (int I = 0; I < 3; ++I) {
+          const Vec3 x = w.cross(Vec3(q.segment<3>(12 * i + 3 + 3 * I)));
+          for (int r = 0; r < 3; ++r) sum += std::abs(x(r)) * ti[3 + 3 * I + r];
+        }
+        out(first + col) += sum;
+      }
+    }
+  }
+  return out;
+}
+
 void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, double t_mid,
                                 bool want) const {
+  if (!want && dt == force_dt_ && t_mid == force_t_ && q1.size() == force_q1_.size() &&
+      qn.size() == force_qn_.size() && q1 == force_q1_ && qn == force_qn_)
+    return;
+  force_qn_ = qn;
+  force_q1_ = q1;
+  force_dt_ = dt;
+  force_t_ = t_mid;
   // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t_{n+½}) as System::discrete_force, with the node blocks of
   // K̂ = (2/Δt) M + Δt ∂f/∂qₙ₊₁ (+ ½Δt Σ λ̂ᵢ Hᵢ in evaluate) added straight into the pattern.
   if (want) {
@@ -480,7 +514,7 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
           K_[pair(nodes[a], nodes[b])] += (0.5 * dt) * H.block<12, 12>(12 * a, 12 * b);
   }
 
-  // E(q_{n+½}), E(q_{n+1}) D(u) and the internal null spaces (31) of both configurations.
+  // E(q_{n+½}) and E(q_{n+1}) D(u).
   twist_blocks(qm, Em_);
   twist_blocks(q1, E1_);
   std::vector<Mat3>& T = T_;
@@ -494,13 +528,6 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
       if (G.rotvec >= 0)
         E1_[i][b].middleCols<3>(G.rotvec) = E1_[i][b].middleCols<3>(G.rotvec) * T[path_[i][b]];
     }
-  std::vector<Mat<12, 6>>&Pm = Pm_, &P1 = P1_;
-  Pm.resize(N);
-  P1.resize(N);
-  for (int i = 0; i < N; ++i) {
-    Pm[i] = fn::null_space(qm.segment<12>(12 * i));
-    P1[i] = fn::null_space(q1.segment<12>(12 * i));
-  }
 
   // J_{gh} = Σ_{(i,j)} E_{i,g}ᵀ K̃_{ij} E_{j,h} D_h, K̃_{ij} = P_int,iᵀ K̂_{ij} P_int,j.
   J_.resize(jblocks_.size());
@@ -510,7 +537,7 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
     const Pair& P = pairs_[p];
     const auto &pi = path_[P.i], &pj = path_[P.j];
     if (pi.empty() || pj.empty()) continue;
-    const Mat<6, 6> Kt = project(Pm[P.i], K_[p], P1[P.j]);
+    const Mat<6, 6> Kt = project(qm.data() + 12 * P.i + 3, K_[p], q1.data() + 12 * P.j + 3);
     const int lj = static_cast<int>(pj.size());
     for (int b = 0; b < lj; ++b) {
       const Twist KE = Kt.lazyProduct(E1_[P.j][b]);
@@ -546,25 +573,31 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   return R_;
 }
 
-const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b) const {
+const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refactorize) const {
   VecX& x = x_;
-  if (J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k()) {
-    const double* v = J.valuePtr();
-    for (std::size_t k = 0; k < jblocks_.size(); ++k) {
-      Small& B = values_[k];
-      B.resize(groups_[jblocks_[k].g].width, groups_[jblocks_[k].h].width);
-      const int* slot = &slots_[jblocks_[k].first_slot];
-      for (int c = 0; c < B.cols(); ++c)
-        for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
-    }
-    if (block_lu_.factorize(values_)) {
-      block_lu_.solve(b, x);
-      // No pivoting across blocks: accept the solution by its residual.
-      if (x.allFinite()) {
-        check_.noalias() = J * x;
-        if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
+  if (refactorize || !factorized_) {
+    factorized_ = J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k();
+    if (factorized_) {
+      const double* v = J.valuePtr();
+      for (std::size_t k = 0; k < jblocks_.size(); ++k) {
+        Small& B = values_[k];
+        B.resize(groups_[jblocks_[k].g].width, groups_[jblocks_[k].h].width);
+        const int* slot = &slots_[jblocks_[k].first_slot];
+        for (int c = 0; c < B.cols(); ++c)
+          for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
       }
+      factorized_ = block_lu_.factorize(values_);
+      ++factorizations_;
     }
+  }
+  if (factorized_) {
+    block_lu_.solve(b, x);
+    // No pivoting across blocks: accept the solution by its residual.
+    if (x.allFinite()) {
+      check_.noalias() = J * x;
+      if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
+    }
+    factorized_ = false;
   }
   ++fallbacks_;
   x = lu_.solve(J, b);

@@ -52,10 +52,16 @@ class ReducedNewtonMatrix {
                    solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
   // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
-  const VecX& solve(const system::SpMat& J, const VecX& b) const;
+  // refactorize = false: J is the matrix of the last call, solved with its kept factorization.
+  const VecX& solve(const system::SpMat& J, const VecX& b, bool refactorize = true) const;
+  // |𝖯(q)|ᵀ t, 𝖯 = P_tree(q) (System::abs_tree_null_space_transpose, the residual scale of the
+  // reparametrized step) from the kept paths in fixed-size blocks: the same sums in the same
+  // order. The reference is to a kept workspace.
+  const VecX& abs_reduced_transpose(const VecX& q, const VecX& t) const;
   const system::SpMat& pattern() const { return pattern_; }
   int analyses() const { return lu_.analyses(); }  // symbolic analyses of the sparse LU so far
   int fallbacks() const { return fallbacks_; }     // solves that needed the sparse LU
+  int factorizations() const { return factorizations_; }  // block LU factorizations so far
 
  private:
   using Block = Mat<12, 12>;
@@ -77,7 +83,9 @@ class ReducedNewtonMatrix {
 
   int pair(int i, int j) const;  // index into pairs_, −1 if K̂ does not couple i and j
   // f = DV(qₙ, q₁) − f_ext(q_{n+½}, t_{n+½}) into f_ (System::discrete_force); with `want` the
-  // node blocks of (2/Δt) M + Δt ∂f/∂q₁ into K_.
+  // node blocks of (2/Δt) M + Δt ∂f/∂q₁ into K_. Without `want`, f_ is kept if it is already
+  // that of (qₙ, q₁, Δt, t_{n+½}): the multipliers of a step are those of the configuration
+  // whose residual ended its Newton iteration.
   void force(const VecX& qn, const VecX& q1, double dt, double t_mid, bool want) const;
   // 𝖦 = G(q_{n+½}) of the selected rows ((22), joint Jacobians) into G_; false if an entry
   // outside its fixed pattern is nonzero.
@@ -139,16 +147,20 @@ class ReducedNewtonMatrix {
   mutable std::vector<Mat3> steps_;
   mutable std::vector<double> tangent_;
   mutable std::vector<Mat3> T_;
-  mutable std::vector<Mat<12, 6>> Pm_, P1_;
   mutable system::SpMat G_, GGt_;
   mutable PreorderedLDLT ldlt_;
   mutable VecX permuted_, solved_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
+  mutable VecX abs_reduced_;
+  mutable VecX force_qn_, force_q1_;  // the arguments f_ was computed for
+  mutable double force_dt_ = 0.0, force_t_ = 0.0;
   mutable std::vector<Small> J_;
   mutable BlockLU block_lu_;
   mutable std::vector<Small> values_;
   mutable solve::FixedPatternLU lu_;
   mutable int fallbacks_ = 0;
+  mutable bool factorized_ = false;  // block_lu_ holds the factors of the last J
+  mutable int factorizations_ = 0;
 };
 
 }  // namespace isoflex::integrate
