@@ -199,11 +199,12 @@ VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_
 }
 
 void BeamElement::discrete_gradient(const Q& qn, const Q& qn1, Q& dv,
-                                    Mat<kCoords, kCoords>* dv_dqn1) const {
+                                    Mat<kCoords, kCoords>* dv_dqn1,
+                                    const Strain6* strains_n) const {
   const Q qm = 0.5 * (qn + qn1);
   // Average strain Ē = ½(E(qₙ) + E(qₙ₊₁)), not E(q_{n+½}): with E quadratic,
   // E(qₙ₊₁) − E(qₙ) = B(q_{n+½})(qₙ₊₁ − qₙ) exactly, so DV·Δq = ΔV (theory-notes, average strain).
-  const Strain6 e_avg = 0.5 * (raw_strains(qn) + raw_strains(qn1)) - e0_;
+  const Strain6 e_avg = 0.5 * ((strains_n ? *strains_n : raw_strains(qn)) + raw_strains(qn1)) - e0_;
   const Strain6 S = C_.cwiseProduct(e_avg);
   const Mat<6, kCoords> Bm = strain_jacobian(qm);
   dv = L0_ * Bm.transpose() * S + gravity_gradient();

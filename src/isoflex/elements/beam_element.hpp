@@ -81,9 +81,14 @@ class BeamElement final : public Element {
   // Average-strain discrete gradient (docs/theory/beam.md §4):
   // DV = L₀ B(q_{n+½})ᵀ C ½(E(qₙ) + E(qₙ₊₁)) + ∇V_g, exact in the sense of Gonzalez.
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
+  using Strain6 = Vec<6>;  // (Γ₁, Γ₂, Γ₃, K₁, K₂, K₃)
+  // The strains of (69) before the reference strains Γ⁰, K⁰ are subtracted.
+  Strain6 raw_strains(const Q& q) const;
   // The same in fixed sizes, without heap allocation (the reparametrized block assembly,
   // integrate/reduced_newton_matrix.hpp, calls it once per element and Newton iteration).
-  void discrete_gradient(const Q& qn, const Q& qn1, Q& dv, Mat<kCoords, kCoords>* dv_dqn1) const;
+  // strains_n: raw_strains(qn), if the caller keeps it (qn is the same for a whole step).
+  void discrete_gradient(const Q& qn, const Q& qn1, Q& dv, Mat<kCoords, kCoords>* dv_dqn1,
+                         const Strain6* strains_n = nullptr) const;
   MatX mass() const override;
   // Kelvin–Voigt viscous force f_v = L₀ B(q)ᵀ η C B(q) q̇ (the strain rates Ė = B(q) q̇ with the
   // stiffnesses times η; docs/theory/beam.md §9). B is linear in q, so ∂(B(q) q̇)/∂q = B(q̇):
@@ -110,7 +115,6 @@ class BeamElement final : public Element {
   Strains reference_strains() const { return {e0_.head<3>(), e0_.tail<3>()}; }
 
  private:
-  using Strain6 = Vec<6>;  // (Γ₁, Γ₂, Γ₃, K₁, K₂, K₃)
   using Block8 = Mat<8, 8>;
   // A nonzero h_k(b, c) of a strain form.
   struct Entry {
@@ -119,7 +123,6 @@ class BeamElement final : public Element {
   };
 
   // Raw strains ½ qᵀ H_k q (without the reference values).
-  Strain6 raw_strains(const Q& q) const;
   // B(q) = ∂E/∂q, row k = (H_k q)ᵀ; linear in q.
   Mat<6, kCoords> strain_jacobian(const Q& q) const;
   // Σ_k S_k H_k = (Σ_k S_k h_k) ⊗ I₃.

@@ -25,7 +25,7 @@ BlockLU::BlockLU(std::vector<int> offset, std::vector<int> width,
   std::map<std::pair<int, int>, int> index;
   auto block = [&](int i, int j) {
     const auto [it, inserted] = index.insert({{i, j}, static_cast<int>(blocks_.size())});
-    if (inserted) blocks_.push_back(Small::Zero(width_[i], width_[j]));
+    if (inserted) blocks_.push_back(Block6::Zero());
     return it->second;
   };
   for (int step = 0; step < n; ++step) {
@@ -65,35 +65,12 @@ BlockLU::BlockLU(std::vector<int> offset, std::vector<int> width,
 }
 
 namespace {
-using Small = BlockLU::Small;
 using Mat6 = Mat<6, 6>;
 
-// T −= A B (subtract) or T = A B, with fixed-size 6 × 6 products for full blocks (the common
-// case: root twists) and plain loops otherwise (Eigen's dynamic-size products cost more in
-// their dispatch than in their arithmetic at these sizes).
-void multiply_subtract(const Small& A, const Small& B, Small& T, bool subtract) {
-  if (A.rows() == 6 && A.cols() == 6 && B.cols() == 6) {
-    const Mat6 P = Eigen::Map<const Mat6>(A.data()).lazyProduct(Eigen::Map<const Mat6>(B.data()));
-    if (subtract)
-      Eigen::Map<Mat6>(T.data()) -= P;
-    else
-      T = P;
-    return;
-  }
-  const Eigen::Index m = A.rows(), l = A.cols(), n = B.cols();
-  if (!subtract) T.setZero(m, n);
-  for (Eigen::Index c = 0; c < n; ++c)
-    for (Eigen::Index k = 0; k < l; ++k) {
-      const double b = B(k, c);
-      for (Eigen::Index r = 0; r < m; ++r) T(r, c) -= (subtract ? 1.0 : -1.0) * A(r, k) * b;
-    }
-}
-
-// D⁻¹ by an LU factorization with partial pivoting (the pivots of Eigen's PartialPivLU) in
-// fixed-size arrays; false if the ratio of the smallest to the largest pivot is below 1e-12
-// (cheaper than rcond()).
-bool invert(const Small& D, Small& inv) {
-  const int n = static_cast<int>(D.rows());
+// D⁻¹ of the leading n × n part of D (the rest of inv zero) by an LU factorization with partial
+// pivoting (the pivots of Eigen's PartialPivLU) in fixed-size arrays; false if the ratio of the
+// smallest to the largest pivot is below 1e-12 (cheaper than rcond()).
+bool invert(const Mat6& D, int n, Mat6& inv) {
   double a[6][6];
   int perm[6];
   for (int r = 0; r < n; ++r) {
@@ -120,7 +97,7 @@ bool invert(const Small& D, Small& inv) {
     }
   }
   if (!(smallest > 1e-12 * largest)) return false;
-  inv.resize(n, n);
+  inv.setZero();
   for (int j = 0; j < n; ++j) {  // column j of D⁻¹: L U x = P e_j
     double x[6];
     for (int r = 0; r < n; ++r) {
@@ -141,18 +118,19 @@ bool invert(const Small& D, Small& inv) {
 
 bool BlockLU::factorize(const std::vector<Small>& values) {
   if (values.size() != input_.size()) throw std::invalid_argument("BlockLU: wrong block count");
-  for (auto& B : blocks_) B.setZero();
-  for (std::size_t b = 0; b < values.size(); ++b) blocks_[input_[b]] += values[b];
+  for (Block6& B : blocks_) B.setZero();
+  for (std::size_t b = 0; b < values.size(); ++b)
+    blocks_[input_[b]].topLeftCorner(values[b].rows(), values[b].cols()) += values[b];
   for (std::size_t k = 0; k < order_.size(); ++k) {
     const Pivot& p = order_[k];
-    if (!invert(blocks_[p.diag], inverse_[k])) return false;
+    if (!invert(blocks_[p.diag], width_[p.group], inverse_[k])) return false;
     for (const auto& [i, li] : p.lower) {
-      const Small L = blocks_[li];
-      multiply_subtract(L, inverse_[k], blocks_[li], false);
+      const Block6 L = blocks_[li].lazyProduct(inverse_[k]);
+      blocks_[li] = L;
     }
     for (int u = p.first_update; u < p.last_update; ++u) {
       const Update& up = updates_[u];
-      multiply_subtract(blocks_[up.l], blocks_[up.u], blocks_[up.target], true);
+      blocks_[up.target] -= blocks_[up.l].lazyProduct(blocks_[up.u]);
     }
   }
   return true;
@@ -165,20 +143,23 @@ VecX BlockLU::solve(const VecX& b) const {
 }
 
 void BlockLU::solve(const VecX& b, VecX& y) const {
-  using Part = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-  y = b;
+  using Vec6 = Vec<6>;
+  const int groups = static_cast<int>(width_.size());
+  VecX& z = padded_;
+  z.setZero(6 * groups);
+  for (int g = 0; g < groups; ++g) z.segment(6 * g, width_[g]) = b.segment(offset_[g], width_[g]);
   for (const Pivot& p : order_) {
-    const Part yv = y.segment(offset_[p.group], width_[p.group]);
-    for (const auto& [i, li] : p.lower)
-      y.segment(offset_[i], width_[i]).noalias() -= blocks_[li] * yv;
+    const Vec6 zv = z.segment<6>(6 * p.group);
+    for (const auto& [i, li] : p.lower) z.segment<6>(6 * i).noalias() -= blocks_[li] * zv;
   }
   for (std::size_t k = order_.size(); k-- > 0;) {
     const Pivot& p = order_[k];
-    Part s = y.segment(offset_[p.group], width_[p.group]);
-    for (const auto& [j, uj] : p.upper)
-      s.noalias() -= blocks_[uj] * y.segment(offset_[j], width_[j]);
-    y.segment(offset_[p.group], width_[p.group]) = inverse_[k] * s;
+    Vec6 s = z.segment<6>(6 * p.group);
+    for (const auto& [j, uj] : p.upper) s.noalias() -= blocks_[uj] * z.segment<6>(6 * j);
+    z.segment<6>(6 * p.group).noalias() = inverse_[k] * s;
   }
+  y.resize(size_);
+  for (int g = 0; g < groups; ++g) y.segment(offset_[g], width_[g]) = z.segment(6 * g, width_[g]);
 }
 
 }  // namespace isoflex::integrate

@@ -39,13 +39,18 @@ class BlockLU {
     std::vector<std::pair<int, int>> upper;  // (column group j, block (v, j))
     int first_update = 0, last_update = 0;
   };
+  // Every block is stored as a 6 × 6 matrix, zero outside its widths, so that the products are
+  // the fixed-size ones (the zeros stay zero: an L block has no rows or columns beyond its
+  // groups' widths, a padded inverse neither).
+  using Block6 = Mat<6, 6>;
   std::vector<int> offset_, width_;
   int size_ = 0;
-  std::vector<Pivot> order_;    // elimination order
-  std::vector<int> input_;      // storage block of each input block
-  std::vector<Small> blocks_;   // filled pattern: L (strict lower), U, diagonal
-  std::vector<Small> inverse_;  // D⁻¹ of each pivot (order_ index)
+  std::vector<Pivot> order_;     // elimination order
+  std::vector<int> input_;       // storage block of each input block
+  std::vector<Block6> blocks_;   // filled pattern: L (strict lower), U, diagonal
+  std::vector<Block6> inverse_;  // D⁻¹ of each pivot (order_ index)
   std::vector<Update> updates_;
+  mutable VecX padded_;  // solve's workspace: 6 entries per group
 };
 
 }  // namespace isoflex::integrate

@@ -349,6 +349,18 @@ void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, doubl
   f.setZero(sys_.n());
   MatX& Ke = Ke_;
   const auto& elements = sys_.elements();
+  // The beams' strains at qₙ, the same for every iteration of a step.
+  if (qn.size() != strains_qn_.size() || qn != strains_qn_) {
+    beam_strains_n_.resize(elements.size());
+    for (std::size_t e = 0; e < elements.size(); ++e)
+      if (beams_[e]) {
+        const auto& nodes = elements[e]->nodes();
+        elements::BeamElement::Q a;
+        a << qn.segment<12>(12 * nodes[0]), qn.segment<12>(12 * nodes[1]);
+        beam_strains_n_[e] = beams_[e]->raw_strains(a);
+      }
+    strains_qn_ = qn;
+  }
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const auto& nodes = elements[e]->nodes();
     if (const elements::BeamElement* beam = beams_[e]) {
@@ -357,7 +369,7 @@ void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, doubl
       BQ a, b, dv;
       a << qn.segment<12>(12 * nodes[0]), qn.segment<12>(12 * nodes[1]);
       b << q1.segment<12>(12 * nodes[0]), q1.segment<12>(12 * nodes[1]);
-      beam->discrete_gradient(a, b, dv, want ? &beam_K_ : nullptr);
+      beam->discrete_gradient(a, b, dv, want ? &beam_K_ : nullptr, &beam_strains_n_[e]);
       for (int i = 0; i < 2; ++i) {
         f.segment<12>(12 * nodes[i]) += dv.segment<12>(12 * i);
         if (want)
@@ -539,10 +551,17 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
     if (pi.empty() || pj.empty()) continue;
     const Mat<6, 6> Kt = project(qm.data() + 12 * P.i + 3, K_[p], q1.data() + 12 * P.j + 3);
     const int lj = static_cast<int>(pj.size());
+    // A root's own block of E(q_{n+½}) is the identity: Iᵀ KE is KE exactly.
+    const bool root = parent_joint_[P.i] < 0;
     for (int b = 0; b < lj; ++b) {
-      const Twist KE = Kt.lazyProduct(E1_[P.j][b]);
-      // A root's own block of E(q_{n+½}) is the identity: Iᵀ KE is KE exactly.
-      const bool root = parent_joint_[P.i] < 0;
+      const Twist& E = E1_[P.j][b];
+      if (root && E.cols() == 6) {  // two root twists (beam nodes): fixed-size products
+        using M6 = Mat<6, 6>;
+        Eigen::Map<M6>(J_[pair_blocks_[P.first + b]].data()) +=
+            Kt.lazyProduct(Eigen::Map<const M6>(E.data()));
+        continue;
+      }
+      const Twist KE = Kt.lazyProduct(E);
       for (std::size_t a = 0; a < pi.size(); ++a) {
         Small& Jb = J_[pair_blocks_[P.first + static_cast<int>(a) * lj + b]];
         if (root)
@@ -575,7 +594,10 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
 
 const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refactorize) const {
   VecX& x = x_;
-  if (refactorize || !factorized_) {
+  // Kept factors were accepted by the residual of their first solve: the backward error of the
+  // triangular solves (the growth of the elimination) does not depend on the right-hand side.
+  const bool accepted = factorized_ && !refactorize;
+  if (!accepted) {
     factorized_ = J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k();
     if (factorized_) {
       const double* v = J.valuePtr();
@@ -592,8 +614,9 @@ const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refac
   }
   if (factorized_) {
     block_lu_.solve(b, x);
-    // No pivoting across blocks: accept the solution by its residual.
     if (x.allFinite()) {
+      if (accepted) return x;
+      // No pivoting across blocks: accept the factors by the residual.
       check_.noalias() = J * x;
       if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
     }

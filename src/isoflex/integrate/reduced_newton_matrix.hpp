@@ -153,6 +153,8 @@ class ReducedNewtonMatrix {
   mutable std::vector<std::vector<Twist>> Em_, E1_;
   mutable VecX abs_reduced_;
   mutable VecX force_qn_, force_q1_;  // the arguments f_ was computed for
+  mutable VecX strains_qn_;           // the qₙ of beam_strains_n_
+  mutable std::vector<elements::BeamElement::Strain6> beam_strains_n_;  // raw strains at qₙ
   mutable double force_dt_ = 0.0, force_t_ = 0.0;
   mutable std::vector<Small> J_;
   mutable BlockLU block_lu_;
