@@ -153,27 +153,6 @@ TEST(ReducedNewtonMatrix, AChordSolveReusesTheFactorization) {
   EXPECT_LT((MatX(J) * chord + R2).lpNorm<Eigen::Infinity>(), 1e-10 * R2.lpNorm<Eigen::Infinity>());
 }
 
-// The residual scale of the block path, |𝖯(q)|ᵀ t from the kept paths and the directors, equals
-// the system's sum over the twist blocks (System::abs_tree_null_space_transpose) on trees with
-// root nodes, joint freedoms and rigid joints.
-TEST(ReducedNewtonMatrix, ResidualScaleIsTheSystemSum) {
-  for (const auto& m : {slider_crank(), test::chain(6), test::heavy_top()}) {
-    const auto sys = system::System::compile(m);
-    EnergyMomentumIntegrator a(sys, m.solver);
-    integrate::ReducedNewtonMatrix rn(sys);
-    auto s = a.initial_state();
-    for (int i = 0; i < 5; ++i) a.step(s);
-    std::srand(9);
-    const VecX t = VecX::Random(sys.n()).cwiseAbs();
-    const VecX expected = sys.abs_tree_null_space_transpose(s.q, t);
-    const VecX got = rn.abs_reduced_transpose(s.q, t);
-    ASSERT_EQ(got.size(), expected.size()) << m.name;
-    EXPECT_LT((got - expected).lpNorm<Eigen::Infinity>(),
-              1e-14 * expected.lpNorm<Eigen::Infinity>())
-        << m.name;
-  }
-}
-
 // Block LU in minimum-degree order equals a dense LU on a random block-sparse matrix (a block
 // tridiagonal chain of groups of widths 1…6 with an arrow to the last group).
 TEST(ReducedNewtonMatrix, BlockLUSolvesBlockSparseSystems) {

@@ -299,31 +299,6 @@ void ReducedNewtonMatrix::twist_blocks(const VecX& q, std::vector<std::vector<Tw
   }
 }
 
-const VecX& ReducedNewtonMatrix::abs_reduced_transpose(const VecX& q, const VecX& t) const {
-  twist_blocks(q, Em_);
-  VecX& out = abs_reduced_;
-  out.setZero(sys_.k());
-  // Rows of P_int E: the translation rows of E, and −d̂_I ω = ω × d_I for the directors (31).
-  for (int i = 0; i < sys_.node_count(); ++i) {
-    const double* ti = t.data() + 12 * i;
-    for (std::size_t b = 0; b < path_[i].size(); ++b) {
-      const Twist& B = Em_[i][b];
-      const int first = groups_[path_[i][b]].offset;
-      for (int col = 0; col < B.cols(); ++col) {
-        const Vec3 w = B.col(col).tail<3>();
-        double sum = 0.0;
-        for (int r = 0; r < 3; ++r) sum += std::abs(B(r, col)) * ti[r];
-        for (int I = 0; I < 3; ++I) {
-          const Vec3 x = w.cross(Vec3(q.segment<3>(12 * i + 3 + 3 * I)));
-          for (int r = 0; r < 3; ++r) sum += std::abs(x(r)) * ti[3 + 3 * I + r];
-        }
-        out(first + col) += sum;
-      }
-    }
-  }
-  return out;
-}
-
 void ReducedNewtonMatrix::force(const VecX& qn, const VecX& q1, double dt, double t_mid,
                                 bool want) const {
   if (!want && dt == force_dt_ && t_mid == force_t_ && q1.size() == force_q1_.size() &&

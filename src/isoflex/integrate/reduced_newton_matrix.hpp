@@ -54,10 +54,6 @@ class ReducedNewtonMatrix {
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
   // refactorize = false: J is the matrix of the last call, solved with its kept factorization.
   const VecX& solve(const system::SpMat& J, const VecX& b, bool refactorize = true) const;
-  // |𝖯(q)|ᵀ t, 𝖯 = P_tree(q) (System::abs_tree_null_space_transpose, the residual scale of the
-  // reparametrized step) from the kept paths in fixed-size blocks: the same sums in the same
-  // order. The reference is to a kept workspace.
-  const VecX& abs_reduced_transpose(const VecX& q, const VecX& t) const;
   const system::SpMat& pattern() const { return pattern_; }
   int analyses() const { return lu_.analyses(); }  // symbolic analyses of the sparse LU so far
   int fallbacks() const { return fallbacks_; }     // solves that needed the sparse LU
@@ -151,7 +147,6 @@ class ReducedNewtonMatrix {
   mutable PreorderedLDLT ldlt_;
   mutable VecX permuted_, solved_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
-  mutable VecX abs_reduced_;
   mutable VecX force_qn_, force_q1_;  // the arguments f_ was computed for
   mutable VecX strains_qn_;           // the qₙ of beam_strains_n_
   mutable std::vector<elements::BeamElement::Strain6> beam_strains_n_;  // raw strains at qₙ

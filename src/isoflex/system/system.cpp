@@ -564,29 +564,29 @@ SpMat System::tree_null_space(const VecX& q) const {
   return P;
 }
 
-VecX System::abs_tree_null_space_transpose(const VecX& q, const VecX& t) const {
-  // Column j of P_tree = P_int E (57) has, in the rows of node i, P_int,i E_{i,g} (the group g of
-  // column j on the node's path): each entry summed over the six twist rows in order, as
-  // tree_null_space does. Nodes in order are rows in order, so every column's sum runs in the
-  // order of the sparse product |P_tree|ᵀ t.
-  const TwistBlocks rows = twist_blocks(q, input_blocks(q));
-  VecX out = VecX::Zero(k_);
-  for (int i = 0; i < node_count(); ++i) {
-    const NodeMat Pi = node_type(i).twist_null_space(node_q(q, i));
-    const int rows_i = static_cast<int>(Pi.rows());
-    const double* p = Pi.data();  // column-major, rows_i × 6
-    const double* ti = t.data() + nodes_[i].q_offset;
-    // The zero entries of P_int that tree_null_space skips add ±0 here: the same sums.
-    for (const auto& [c, B] : rows[i])
-      for (int col = 0; col < B.cols(); ++col) {
-        const double* b = B.col(col).data();
-        double& sum = out(c + col);
-        for (int r = 0; r < rows_i; ++r) {
-          double x = 0.0;
-          for (int s = 0; s < 6; ++s) x += p[r + rows_i * s] * b[s];
-          sum += std::abs(x) * ti[r];
-        }
-      }
+VecX System::abs_tree_null_space_transpose_bound(const VecX& q, const VecX& t) const {
+  // The sweep of reduce with entrywise absolute blocks: |P_int,i A⋯A B| ≤ |P_int,i| |A|⋯|A| |B|,
+  // so every entry bounds |P_tree|ᵀ t from above, in O(nodes) where the exact sums read every
+  // (node, ancestor) block, O(nodes × depth) (a chain: O(N²)).
+  const int N = node_count();
+  VecX y(6 * N), out = VecX::Zero(k_);
+  for (int i = 0; i < N; ++i)
+    y.segment<6>(6 * i) =
+        node_type(i).twist_null_space(node_q(q, i)).cwiseAbs().transpose() * node_q(t, i);
+  for (auto it = tree_order_.rbegin(); it != tree_order_.rend(); ++it) {
+    const auto& J = joints_[*it];
+    const auto qa = node_q(q, J.parent), qb = node_q(q, J.child);
+    const Vec<6> yc = y.segment<6>(6 * J.child);
+    if (J.parent >= 0)
+      y.segment<6>(6 * J.parent) += J.joint->parent_block(qa, qb).cwiseAbs().transpose() * yc;
+    if (J.joint->freedom_count() > 0)
+      out.segment(J.nu_offset, J.joint->freedom_count()) =
+          J.joint->freedom_block(qa, qb).cwiseAbs().transpose() * yc;
+  }
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    out.segment(root_nu_offset_[r], root_width_[r]) =
+        node_type(i).root_block(node_q(q, i)).cwiseAbs().transpose() * y.segment<6>(6 * i);
   }
   return out;
 }

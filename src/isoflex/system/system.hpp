@@ -296,9 +296,9 @@ class System {
 
   // Tree null space P_tree(q) (n × k): G_tree(q) P_tree(q) = 0 for every q.
   SpMat tree_null_space(const VecX& q) const;
-  // |P_tree(q)|ᵀ t (entrywise absolute values, k) without forming P_tree: the node blocks
-  // P_int,i E_{i,g} along each node's path, with the entries and sums of tree_null_space.
-  VecX abs_tree_null_space_transpose(const VecX& q, const VecX& t) const;
+  // An upper bound of |P_tree(q)|ᵀ t (t ≥ 0, entrywise absolute values, k) in one
+  // leaves-to-root sweep: the products of the absolute blocks along each node's path.
+  VecX abs_tree_null_space_transpose_bound(const VecX& q, const VecX& t) const;
   // Twist-level map E(q) (6·nodes × k) with t = E ν.
   SpMat twist_map(const VecX& q) const;
   // Nodal reparametrization q_{n+1} = F_{qₙ}(u), u ∈ Rᵏ (DNSM-III (14), (37), joint updates).
