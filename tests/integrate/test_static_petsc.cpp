@@ -5,6 +5,8 @@
 // and the solver's own iterations counted.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "isoflex/integrate/static_equilibrium.hpp"
@@ -120,8 +122,132 @@ TEST(StaticPetsc, MultigridOnASmallPatchIsItsCoarsestLevel) {
   EXPECT_EQ(s.fallbacks, 0);
 }
 
+namespace {
+
+// A model file of the repository with its solver, its knots per span (the "[40, 40]" or
+// "[3, 1]" of the file replaced) and linear or 5× the self-weight in two load steps.
+std::string repository_model(const std::string& path, const std::string& solver,
+                             const std::string& knots_from, const std::string& knots_to) {
+  std::ifstream in(std::string(ISOFLEX_SOURCE_DIR) + "/" + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+      s.replace(p, from.size(), to);
+  };
+  replace_all("knots_per_span: " + knots_from, "knots_per_span: " + knots_to);
+  replace_all("linear_solver: cg_multigrid", "linear_solver: " + solver);
+  replace_all("linear: true}", "linear: true, linear_solver: " + solver + "}");
+  return s;
+}
+
+struct SolvedModel {
+  VecX q;
+  int krylov_iterations = 0, fallbacks = 0, unknowns = 0;
+  std::string solver;
+};
+
+SolvedModel solve_model(const std::string& text) {
+  const model::Model m = io::read_model_string(text, "model.yaml");
+  const system::System sys = system::System::compile(m);
+  integrate::StaticEquilibrium eq(sys, m.solver);
+  SolvedModel out;
+  out.unknowns = eq.unknowns();
+  out.solver = eq.linear_solver();
+  eq.solve([&](const integrate::LoadStepStats& st, const VecX& x) {
+    out.q = x.head(sys.n());
+    out.krylov_iterations += st.krylov_iterations;
+    out.fallbacks += st.linear_solver_fallbacks;
+  });
+  return out;
+}
+
+// max |q − q_direct| relative to max |q − X|, the size of the displacements.
+double relative_difference(const SolvedModel& s, const SolvedModel& direct, const VecX& X) {
+  return (s.q - direct.q).cwiseAbs().maxCoeff() / (direct.q - X).cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+// The quarter roof with its symmetry supports imposed weakly (multiplier rows; without them
+// nothing holds it along z, so the stiffness of the free coordinates alone is singular): the
+// PETSc solvers take its saddle point (docs/theory/solvers.md §5, FGMRES with the block
+// preconditioner on the augmented Lagrangian) and agree with the direct solver (the sparse LU of
+// the whole matrix at this size) to 10⁻⁸ of the displacements, without a fallback.
+TEST(StaticPetsc, SaddlePointWithSymmetryRowsAgreesWithTheDirectSolver) {
+  ISOFLEX_REQUIRE_PETSC();
+  const auto text = [](const std::string& solver) {
+    return repository_model("bench/large_shells/scordelis_lo_quarter.yaml", solver, "[40, 40]",
+                            "[24, 24]");
+  };
+  const SolvedModel direct = solve_model(text("direct"));
+  const model::Model m = io::read_model_string(text("direct"), "model.yaml");
+  const VecX X = system::System::compile(m).q0();
+  EXPECT_EQ(direct.krylov_iterations, 0);
+  for (const char* method : {"cg_multigrid", "mumps", "cg_gamg"}) {
+    const SolvedModel s = solve_model(text(method));
+    const double diff = relative_difference(s, direct, X);
+    std::printf("%-12s %4d iterations, relative difference %.2e\n", method, s.krylov_iterations,
+                diff);
+    EXPECT_EQ(s.solver, method);
+    EXPECT_LT(diff, 1e-8) << method;
+    EXPECT_EQ(s.fallbacks, 0) << method;
+    EXPECT_GT(s.krylov_iterations, 0) << method;
+  }
+}
+
+// Nonlinear (5× the self-weight in two load steps): the inexact Newton with the saddle-point
+// solve reaches the direct solver's equilibrium.
+TEST(StaticPetsc, SaddlePointInexactNewtonReachesTheSameEquilibrium) {
+  ISOFLEX_REQUIRE_PETSC();
+  const auto text = [](const std::string& solver) {
+    std::string s = repository_model("bench/large_shells/scordelis_lo_quarter.yaml", solver,
+                                     "[40, 40]", "[16, 16]");
+    s.replace(s.find("  linear: true"), 14, "  linear: false");
+    s.replace(s.find("  dt: 1\n"), 8, "  dt: 0.5\n");
+    s.replace(s.find("-90*t"), 5, "-450*t");
+    return s;
+  };
+  const SolvedModel direct = solve_model(text("direct"));
+  const model::Model m = io::read_model_string(text("direct"), "model.yaml");
+  const VecX X = system::System::compile(m).q0();
+  const SolvedModel s = solve_model(text("cg_multigrid"));
+  const double diff = relative_difference(s, direct, X);
+  std::printf("cg_multigrid %4d iterations, relative difference %.2e\n", s.krylov_iterations, diff);
+  EXPECT_LT(diff, 1e-8);
+  EXPECT_EQ(s.fallbacks, 0);
+  EXPECT_GT(s.krylov_iterations, 0);
+}
+
+// Two patches coupled by AF-D (examples/kl_scordelis_lo_two_patch, `coupling: angle`: the G¹
+// rows tie coordinates, and the symmetry rows that the tied rows imply are kept with the
+// equation μᵢ = 0): the saddle point with tied coordinates, symmetry rows and implied rows, by
+// the PETSc solvers that take tied coordinates (geometric multigrid does not yet), against the
+// direct solver, to 10⁻⁸ of the displacements.
+TEST(StaticPetsc, SaddlePointOfAMultipatchCouplingAgreesWithTheDirectSolver) {
+  ISOFLEX_REQUIRE_PETSC();
+  const auto text = [](const std::string& solver) {
+    return repository_model("examples/kl_scordelis_lo_two_patch/model.yaml", solver, "[3, 1]",
+                            "[6, 3]");
+  };
+  const SolvedModel direct = solve_model(text("direct"));
+  const model::Model m = io::read_model_string(text("direct"), "model.yaml");
+  const VecX X = system::System::compile(m).q0();
+  for (const char* method : {"mumps", "cg_gamg"}) {
+    const SolvedModel s = solve_model(text(method));
+    const double diff = relative_difference(s, direct, X);
+    std::printf("%-12s %4d iterations, relative difference %.2e\n", method, s.krylov_iterations,
+                diff);
+    EXPECT_LT(diff, 1e-8) << method;
+    EXPECT_EQ(s.fallbacks, 0) << method;
+    EXPECT_GT(s.krylov_iterations, 0) << method;
+  }
+}
+
 // `auto` (integrate::kAutomaticMultigridUnknowns): geometric multigrid for patches without rows
-// from 50 000 unknowns on, the direct solver below and wherever the matrix has multiplier rows.
+// from 50 000 unknowns on, the direct solver below; with weak supports' multiplier rows from
+// 100 000 free dofs on (kAutomaticSaddlePointMultigridUnknowns).
 TEST(StaticPetsc, AutomaticChoosesMultigridBySize) {
   ISOFLEX_REQUIRE_PETSC();
   const auto chosen = [](int knots, const std::string& extra_support) {
@@ -138,10 +264,14 @@ TEST(StaticPetsc, AutomaticChoosesMultigridBySize) {
   const auto [large, large_solver] = chosen(127, "");
   EXPECT_GE(large, integrate::kAutomaticMultigridUnknowns);
   EXPECT_EQ(large_solver, "cg_multigrid");
-  const auto [rows, rows_solver] =
-      chosen(127, "  - {shell: roof, edge: u0, symmetry: [1, 0, 0]}\n");
+  const std::string symmetry = "  - {shell: roof, edge: u0, symmetry: [1, 0, 0]}\n";
+  const auto [rows, rows_solver] = chosen(127, symmetry);
   EXPECT_GE(rows, integrate::kAutomaticMultigridUnknowns);
+  EXPECT_LT(rows, integrate::kAutomaticSaddlePointMultigridUnknowns);
   EXPECT_EQ(rows_solver, "direct");
+  const auto [many_rows, many_rows_solver] = chosen(180, symmetry);
+  EXPECT_GE(many_rows, integrate::kAutomaticSaddlePointMultigridUnknowns + 400);
+  EXPECT_EQ(many_rows_solver, "cg_multigrid");
 }
 
 // A static run keeps no copy of a linear patch's constant tangent (System::keep_linear_tangent,

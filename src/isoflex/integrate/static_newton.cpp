@@ -33,6 +33,16 @@ double inf_norm(const VecX& v) {
 
 // The relative tolerance of a PETSc solve that is not a Newton step's (docs/theory/solvers.md §3).
 constexpr double kKrylovTightTolerance = 1e-10;
+// Solves of the augmented system per saddle-point solve, each from M's true residual.
+constexpr int kKrylovRefinementCycles = 5;
+// A saddle-point solve whose normwise backward error is this is accepted (round-off of M z).
+constexpr double kKrylovBackwardError = 1e-13;
+// The relative tolerance of one cycle of the saddle-point solve (krylov_saddle_point_solve), at
+// least: 10⁻¹⁰ left the quarter roof at 2·10³ unknowns 10⁻⁷ from the LU's solution, 10⁻¹¹ 10⁻⁸,
+// 10⁻¹² 10⁻⁹ (StaticPetsc.SaddlePoint*).
+constexpr double kSaddlePointCycleTolerance = 1e-12;
+// The augmented Lagrangian's penalty factor α of the PETSc path (SaddlePointOptions).
+constexpr double kKrylovPenaltyFactor = 1.0;
 
 }  // namespace
 
@@ -80,6 +90,11 @@ struct StaticNewtonSolver::Impl {
   solve::FixedPatternCholesky cholesky;
   solve::FixedPatternLU lu;
   solve::SaddlePointSolver saddle;
+  // The augmented system of the PETSc path (krylov_saddle_point_solve), with its own penalty
+  // factor α = 1: with multigrid on Â a penalty of α = 10² made Â hard for the cycle (FGMRES
+  // took 248 iterations on the quarter roof at 3·10⁵ unknowns, 58 at α = 10, 32 at α = 1, 50 at
+  // α = 0.3, 123 at α = 0.1; docs/theory/solvers.md §5).
+  solve::SaddlePointSolver krylov_saddle{solve::SaddlePointOptions{kKrylovPenaltyFactor}};
   std::optional<solve::KrylovMethod> petsc;     // the PETSc solver in use (choose_petsc)
   std::unique_ptr<solve::KrylovSolver> krylov;  // made on first use
   int pattern_version = 0;                      // A's pattern, counted by build_reduction
@@ -216,19 +231,16 @@ struct StaticNewtonSolver::Impl {
         return solver.solve(M, b);
     };
     const bool multipliers = m > 0 || nf_configuration < nf;
-    if (use_krylov() && stats && (multipliers || !problem.symmetric)) {
-      // Not a symmetric positive definite matrix without rows: the solvers below (PETSc's
-      // saddle-point and unsymmetric solvers are not built in), said once per solve.
+    if (use_krylov() && stats && !problem.symmetric) {
+      // Not symmetric: the solvers below (PETSc's unsymmetric solvers are not built in), said
+      // once per solve.
       ++stats->linear_solver_fallbacks;
-      stats->linear_solver_fallback_reason =
-          multipliers ? "the Newton matrix has multiplier rows (supports imposed weakly, "
-                        "couplings, joints), which the PETSc solvers do not take"
-                      : "the Newton matrix is not symmetric (follower loads)";
+      stats->linear_solver_fallback_reason = "the Newton matrix is not symmetric (follower loads)";
     }
-    if (problem.symmetric && !multipliers && use_krylov()) {
+    if (problem.symmetric && use_krylov()) {
       make_krylov();
       try {
-        return krylov_solve(M, b);
+        return multipliers ? krylov_saddle_point_solve(M, b) : krylov_solve(M, b);
       } catch (const std::runtime_error& e) {
         // Not positive definite (past a limit point) or short of its tolerance: the direct
         // solvers below.
@@ -266,9 +278,10 @@ struct StaticNewtonSolver::Impl {
   solve::KrylovMethod krylov_method() const { return *petsc; }
 
   // The PETSc solver of settings.linear_solver; automatic: geometric multigrid for a model of
-  // Kirchhoff–Love patches from kAutomaticMultigridUnknowns unknowns on, where its Newton matrix
-  // is one it takes (no multiplier rows, no tied coordinates, symmetric) and the module loads;
-  // else none (CHOLMOD, as below that size).
+  // Kirchhoff–Love patches (symmetric, no tied coordinates, the module loads) from
+  // kAutomaticMultigridUnknowns free dofs on without multiplier rows, from
+  // kAutomaticSaddlePointMultigridUnknowns on with the LinearConstraints' rows only (weak
+  // supports: the crossover of bench/large_shells.md); else none (the direct solvers).
   std::optional<solve::KrylovMethod> choose_petsc() const {
     switch (settings.linear_solver) {
       case LinearSolverMethod::cg_gamg:
@@ -284,7 +297,9 @@ struct StaticNewtonSolver::Impl {
       case LinearSolverMethod::automatic:
         break;
     }
-    if (nf < kAutomaticMultigridUnknowns || m > 0 || nf_configuration < nf || !problem.symmetric ||
+    const int threshold =
+        m > 0 ? kAutomaticSaddlePointMultigridUnknowns : kAutomaticMultigridUnknowns;
+    if (nf < threshold || nf_configuration < nf || !problem.symmetric ||
         !problem.transfer_operators || !dofs.slaves.empty() || !solve::krylov_available())
       return std::nullopt;
     return solve::KrylovMethod::cg_multigrid;
@@ -321,12 +336,76 @@ struct StaticNewtonSolver::Impl {
     return x;
   }
 
-  // The rigid-body modes of problem.points at the reference, on the Newton unknowns (the free
-  // dofs; a slave's entry is not one, and the multipliers have none).
+  // A Newton matrix with multiplier rows by the PETSc solver (docs/theory/solvers.md §5): the
+  // augmented Lagrangian's system [Â B_Hᵀ; B_H 0] of solve/saddle_point.hpp (the compliant and
+  // implied rows eliminated exactly, Â positive definite at a stable constrained equilibrium even
+  // where K_ff is singular) by FGMRES with the block-triangular preconditioner, Â's block by the
+  // method's preconditioner and S = −B_H Â⁻¹ B_Hᵀ by −W_H⁻¹. The solve is to M's own residual,
+  // ‖b − M z‖₂ ≤ max(rtol ‖b‖₂, atol) as krylov_solve's, with a refinement cycle from the true
+  // residual where the augmented system's residual (other weights) was not enough. A residual
+  // at the round-off of M z is accepted too, a normwise backward error ‖b − M z‖∞ / (‖M‖∞ ‖z‖∞ +
+  // ‖b‖∞) ≤ kKrylovBackwardError (the test of the direct saddle-point solver): the tenth of a
+  // Newton tolerance of 10⁻¹⁶ that a linear analysis asks for is below it, and where CG's
+  // recurrence reaches it, FGMRES's stalls at the round-off of the true residual.
+  template <class Rhs>
+  Rhs krylov_saddle_point_solve(const SpMat& M, const Rhs& b) {
+    const double rtol = std::exchange(krylov_rtol, kKrylovTightTolerance);
+    const double atol = std::exchange(krylov_atol, 0.0);
+    solve::SaddlePointSolver& saddle = krylov_saddle;
+    saddle.augment(M, nf_configuration);
+    const SpMat& Ahat = saddle.augmented_matrix();
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> BH = saddle.hard_rows();
+    const VecX schur = -saddle.hard_weights().cwiseInverse();
+    double norm_M = 0.0;  // ‖M‖∞, the largest column sum (M symmetric)
+    for (int j = 0; j < M.outerSize(); ++j) {
+      double sum = 0.0;
+      for (SpMat::InnerIterator it(M, j); it; ++it) sum += std::abs(it.value());
+      norm_M = std::max(norm_M, sum);
+    }
+    Rhs x(b.rows(), b.cols());
+    for (Eigen::Index c = 0; c < b.cols(); ++c) {
+      const VecX bc = b.col(c);
+      const double target = std::max(rtol * bc.norm(), c == 0 ? atol : 0.0);
+      VecX z = VecX::Zero(bc.size()), r = bc;
+      for (int cycle = 0;; ++cycle) {
+        const VecX f = saddle.augmented_rhs(r);
+        const double scale = f.norm() / std::max(r.norm(), 1e-300);
+        const bool new_pattern = krylov_pattern != pattern_version;
+        const double f_atol = c == 0 ? scale * atol : 0.0;
+        // Every row compliant or implied: Â alone (conjugate gradients).
+        // A cycle reduces the residual by at most kSaddlePointCycleTolerance: the next starts
+        // from the true residual, not from the recurrence's, which runs ahead of it below
+        // round-off.
+        const double f_rtol = std::max(rtol, kSaddlePointCycleTolerance);
+        // The preconditioner is set up on the first cycle of a solve, not again for the others.
+        const bool new_values = c == 0 && cycle == 0;
+        const VecX u = BH.rows() == 0 ? krylov->solve(Ahat, new_pattern, f, f_rtol, f_atol)
+                                      : krylov->solve_saddle_point(Ahat, new_pattern, new_values,
+                                                                   BH, schur, f, f_rtol, f_atol);
+        krylov_pattern = pattern_version;
+        if (stats) stats->krylov_iterations += krylov->last().iterations;
+        z += saddle.expand(u, r);
+        r = bc - M * z;
+        const double backward = inf_norm(r) / (norm_M * inf_norm(z) + inf_norm(bc));
+        if (r.norm() <= target || backward <= kKrylovBackwardError) break;
+        if (cycle == kKrylovRefinementCycles - 1)
+          throw std::runtime_error(
+              fmt::format("the saddle point's residual is {:.3g} after {} cycles, above {:.3g}",
+                          r.norm(), kKrylovRefinementCycles, target));
+      }
+      x.col(c) = z;
+    }
+    return x;
+  }
+
+  // The rigid-body modes of problem.points at the reference, on the Newton unknowns that the
+  // PETSc solver's multigrid sees: the free configuration dofs (a slave's entry is not one, and
+  // the multipliers have none; with multiplier rows the augmented block is this size).
   MatX free_rigid_body_modes() const {
     const MatX full = solve::rigid_body_modes(problem.reference.head(n), problem.points);
-    MatX out = MatX::Zero(nf + m, full.cols());
-    for (int k = 0; k < nf; ++k) out.row(k) = full.row(dofs.free[static_cast<std::size_t>(k)]);
+    MatX out = MatX::Zero(nf_configuration, full.cols());
+    for (int k = 0; k < nf_configuration; ++k)
+      out.row(k) = full.row(dofs.free[static_cast<std::size_t>(k)]);
     return out;
   }
 
@@ -343,10 +422,12 @@ struct StaticNewtonSolver::Impl {
           "geometric multigrid (cg_multigrid): the model has no Kirchhoff–Love patch to coarsen");
     // Empty for a model small enough to be its own coarsest level.
     std::vector<SpMat> P = problem.transfer_operators();
-    std::vector<int> rows(static_cast<std::size_t>(n), -1);  // fine index → kept row
-    for (int k = 0; k < nf; ++k)
+    // Fine index → kept row: the free configuration dofs (with multiplier rows, the rows of the
+    // augmented block Â; without, every free dof).
+    std::vector<int> rows(static_cast<std::size_t>(n), -1);
+    for (int k = 0; k < nf_configuration; ++k)
       rows[static_cast<std::size_t>(dofs.free[static_cast<std::size_t>(k)])] = k;
-    int kept_rows = nf;
+    int kept_rows = nf_configuration;
     for (SpMat& Pl : P) {
       std::vector<int> cols(static_cast<std::size_t>(Pl.cols()), -1);
       int kept_cols = 0;

@@ -126,12 +126,17 @@ inline constexpr int kIterativeSaddlePointUnknowns = 20000;
 // NURBS patches (StaticProblem::transfer_operators), as an inexact Newton (the forcing term of
 // docs/theory/solvers.md §3), or MUMPS's Cholesky. A PETSc solve that fails (not positive
 // definite past a limit point, no convergence) falls back to the direct solvers, counted in
-// LoadStepStats::linear_solver_fallbacks. automatic: geometric multigrid from
-// kAutomaticMultigridUnknowns unknowns on for a model of Kirchhoff–Love patches whose Newton
-// matrix has no multiplier rows and no tied coordinates (where PETSc loads), else direct: the
-// crossover of bench/large_shells.md.
+// LoadStepStats::linear_solver_fallbacks. A Newton matrix with multiplier rows goes to the same
+// PETSc solver as a saddle point (docs/theory/solvers.md §5: FGMRES on the augmented Lagrangian
+// with a block preconditioner, the method's preconditioner on the primal block). automatic:
+// geometric multigrid for a model of Kirchhoff–Love patches without tied coordinates (where
+// PETSc loads) from kAutomaticMultigridUnknowns unknowns on if its Newton matrix has no
+// multiplier rows, from kAutomaticSaddlePointMultigridUnknowns on if its only rows are the
+// LinearConstraints' (weak supports; not the problem's own rows, couplings and joints, where it
+// was not measured to pay), else direct: the crossovers of bench/large_shells.md.
 enum class LinearSolverMethod { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
 inline constexpr int kAutomaticMultigridUnknowns = 50000;
+inline constexpr int kAutomaticSaddlePointMultigridUnknowns = 100000;
 
 struct StaticSettings {
   double t_end = 1.0;
@@ -204,7 +209,7 @@ class StaticNewtonSolver {
   int implied_multiplier_rows() const;
   const StaticSettings& settings() const;
   // "direct" (CHOLMOD, UMFPACK, the saddle-point solver), or the PETSc solver of the Newton
-  // matrices without rows (StaticSettings::linear_solver; automatic: by size).
+  // matrices (StaticSettings::linear_solver; automatic: by size).
   const char* linear_solver() const;
 
  private:

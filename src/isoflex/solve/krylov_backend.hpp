@@ -47,6 +47,17 @@ class KrylovBackend {
   // max_iterations), with PETSc's reason.
   virtual KrylovReport solve(const CsrView& A, bool new_pattern, const double* b, double* x,
                              double rtol, double atol, int max_iterations) = 0;
+  // The saddle point [A Bᵀ; B 0] [x; y] = b (docs/theory/solvers.md §5): A (p × p) symmetric
+  // positive definite, in place as in solve; B (h × p), copied; b, x: p + h entries. FGMRES with
+  // the block-triangular preconditioner [A Bᵀ; 0 S] (PCFIELDSPLIT, Schur, upper), A's block by
+  // one application of the method's preconditioner (a multigrid cycle, MUMPS's solve), S by the
+  // diagonal matrix `schur` (h entries). `new_pattern`: A's or B's pattern changed; else
+  // `new_values`: their values did (the preconditioner is set up again), or not (a refinement
+  // step with the same matrices). Throws as solve does.
+  virtual KrylovReport solve_saddle_point(const CsrView& A, bool new_pattern, bool new_values,
+                                          const CsrView& B, const double* schur, const double* b,
+                                          double* x, double rtol, double atol,
+                                          int max_iterations) = 0;
 };
 
 }  // namespace isoflex::solve

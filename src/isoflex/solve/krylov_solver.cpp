@@ -105,4 +105,23 @@ VecX KrylovSolver::solve(const Eigen::SparseMatrix<double>& A, bool new_pattern,
   return x;
 }
 
+VecX KrylovSolver::solve_saddle_point(const Eigen::SparseMatrix<double>& A, bool new_pattern,
+                                      bool new_values,
+                                      const Eigen::SparseMatrix<double, Eigen::RowMajor>& B,
+                                      const VecX& schur, const VecX& b, double rtol, double atol,
+                                      int max_iterations) {
+  if (!A.isCompressed() || !B.isCompressed() || A.rows() != A.cols() || B.cols() != A.rows() ||
+      schur.size() != B.rows() || b.size() != A.rows() + B.rows())
+    throw std::invalid_argument(
+        "KrylovSolver: inconsistent saddle point (A square and compressed, B with A's columns)");
+  const CsrView a{static_cast<int>(A.rows()), 0, A.outerIndexPtr(), A.innerIndexPtr(),
+                  A.valuePtr()};
+  const CsrView rows{static_cast<int>(B.rows()), static_cast<int>(B.cols()), B.outerIndexPtr(),
+                     B.innerIndexPtr(), B.valuePtr()};
+  VecX x = VecX::Zero(b.size());
+  last_ = backend_->solve_saddle_point(a, new_pattern, new_values, rows, schur.data(), b.data(),
+                                       x.data(), rtol, atol, max_iterations);
+  return x;
+}
+
 }  // namespace isoflex::solve

@@ -47,6 +47,15 @@ class KrylovSolver {
   // ≤ max(rtol ‖b‖₂, atol).
   VecX solve(const Eigen::SparseMatrix<double>& A, bool new_pattern, const VecX& b, double rtol,
              double atol, int max_iterations = 5000);
+  // The saddle point [A Bᵀ; B 0] u = b of the augmented Lagrangian (docs/theory/solvers.md §5;
+  // solve/saddle_point.hpp): A (p × p) as in solve, B (h × p), `schur` the diagonal of the
+  // approximation S ≈ −B A⁻¹ Bᵀ (h entries); u and b have p + h entries. FGMRES to
+  // ‖b − M u‖₂ ≤ max(rtol ‖b‖₂, atol), preconditioned by the block triangle, A's block by one
+  // application of the method's preconditioner. `new_pattern`: A's or B's pattern changed;
+  // `new_values`: their values (false: the matrices of the last call, unchanged).
+  VecX solve_saddle_point(const Eigen::SparseMatrix<double>& A, bool new_pattern, bool new_values,
+                          const Eigen::SparseMatrix<double, Eigen::RowMajor>& B, const VecX& schur,
+                          const VecX& b, double rtol, double atol, int max_iterations = 5000);
   const KrylovReport& last() const { return last_; }
 
  private:

@@ -274,6 +274,12 @@ int SaddlePointSolver::analyses() const {
 }
 
 void SaddlePointSolver::factorize(const SpMat& M, int p) {
+  augment(M, p);
+  impl_->cholesky.factorize(impl_->Ahat);
+  impl_->factorized = true;
+}
+
+void SaddlePointSolver::augment(const SpMat& M, int p) {
   Impl& s = *impl_;
   const int n = static_cast<int>(M.rows());
   if (M.cols() != n || p < 0 || p > n || !M.isCompressed())
@@ -291,19 +297,56 @@ void SaddlePointSolver::factorize(const SpMat& M, int p) {
     for (SpMat::InnerIterator it(M, j); it; ++it) sum += std::abs(it.value());
     s.norm_M = std::max(s.norm_M, sum);
   }
-  s.cholesky.factorize(s.Ahat);
-  s.factorized = true;
 }
 
-VecX SaddlePointSolver::solve(const VecX& b) {
-  Impl& s = *impl_;
-  if (!s.factorized) throw std::logic_error("saddle-point solver: solve before factorize");
+const SpMat& SaddlePointSolver::augmented_matrix() const {
+  return impl_->Ahat;
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> SaddlePointSolver::hard_rows() const {
+  const Impl& s = *impl_;
+  std::vector<int> position(static_cast<std::size_t>(s.B.rows()), -1);
+  for (std::size_t k = 0; k < s.hard.size(); ++k)
+    position[static_cast<std::size_t>(s.hard[k])] = static_cast<int>(k);
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int j = 0; j < s.B.outerSize(); ++j)
+    for (SpMat::InnerIterator it(s.B, j); it; ++it)
+      if (const int r = position[static_cast<std::size_t>(it.row())]; r >= 0)
+        trip.emplace_back(r, j, it.value());
+  Eigen::SparseMatrix<double, Eigen::RowMajor> BH(static_cast<Eigen::Index>(s.hard.size()), s.p);
+  BH.setFromTriplets(trip.begin(), trip.end());
+  BH.makeCompressed();
+  return BH;
+}
+
+VecX SaddlePointSolver::hard_weights() const {
+  const Impl& s = *impl_;
+  VecX w(static_cast<Eigen::Index>(s.hard.size()));
+  for (std::size_t k = 0; k < s.hard.size(); ++k) w(static_cast<Eigen::Index>(k)) = s.w(s.hard[k]);
+  return w;
+}
+
+VecX SaddlePointSolver::augmented_rhs(const VecX& b) const {
+  const Impl& s = *impl_;
   if (b.size() != s.n) throw std::invalid_argument("saddle-point solver: inconsistent sizes");
   const int p = s.p, m = s.n - p, h = static_cast<int>(s.hard.size());
   const VecX b_lambda = b.tail(m);
   VecX f(p + h);
   f.head(p) = b.head(p) + s.B.transpose() * s.w.cwiseProduct(b_lambda);
   for (int k = 0; k < h; ++k) f(p + k) = b_lambda(s.hard[static_cast<std::size_t>(k)]);
+  return f;
+}
+
+VecX SaddlePointSolver::expand(const VecX& u, const VecX& b) const {
+  return impl_->expand(u, b);
+}
+
+VecX SaddlePointSolver::solve(const VecX& b) {
+  Impl& s = *impl_;
+  if (!s.factorized) throw std::logic_error("saddle-point solver: solve before factorize");
+  if (b.size() != s.n) throw std::invalid_argument("saddle-point solver: inconsistent sizes");
+  const int p = s.p, h = static_cast<int>(s.hard.size());
+  const VecX f = augmented_rhs(b);
   s.stats.iterations = 0;
   s.stats.backward_error = 0.0;
   const VecX z =

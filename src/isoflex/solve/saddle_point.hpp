@@ -64,6 +64,20 @@ class SaddlePointSolver {
   const SaddlePointStats& last() const;
   int analyses() const;  // symbolic analyses of Â
 
+  // The augmented system of the header without Â's factorization, for another solver of it (the
+  // PETSc path of integrate/static_newton.cpp, docs/theory/solvers.md §5): forms Â, B and W from
+  // M (kept by reference) as factorize does, with the same exceptions but no factorization.
+  void augment(const SpMat& M, int p);
+  // Â (p × p, symmetric, compressed; its pattern is kept while M's is, its arrays in place).
+  const SpMat& augmented_matrix() const;
+  // B_H (the hard rows, h × p, in compressed rows) and their weights w_H of the last augment.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> hard_rows() const;
+  VecX hard_weights() const;
+  // The augmented right-hand side f = (b_x + Bᵀ W b_λ, b_H) of M z = b, and z of M from the
+  // augmented system's solution u = (x, λ_H) (λ_S = (b_S − B_S x)/Z_S).
+  VecX augmented_rhs(const VecX& b) const;
+  VecX expand(const VecX& u, const VecX& b) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -31,6 +31,8 @@ void finalize() {
 
 // Unknowns per block of the multigrid smoother (setup_multigrid).
 constexpr PetscInt kSmootherBlock = 1000;
+// FGMRES iterations before a restart in the saddle point (make_saddle_point): 2 × 100 vectors.
+constexpr PetscInt kSaddlePointRestart = 100;
 
 // PETSc (and MPI, under mpirun or as a singleton) is started once per process, on the first
 // backend. PETSc's signal handlers are off (isoflex handles SIGINT itself, app/interrupt.hpp);
@@ -49,6 +51,7 @@ class PetscKrylov final : public KrylovBackend {
  public:
   explicit PetscKrylov(KrylovMethod method) : method_(method) {}
   ~PetscKrylov() override {
+    destroy_saddle_point();
     if (ksp_) KSPDestroy(&ksp_);
     if (A_) MatDestroy(&A_);
     if (null_space_) MatNullSpaceDestroy(&null_space_);
@@ -85,6 +88,7 @@ class PetscKrylov final : public KrylovBackend {
                 &interpolations_[static_cast<std::size_t>(l)]),
             "MatCreateSeqAIJWithArrays");
     if (ksp_) check(KSPDestroy(&ksp_), "KSPDestroy");
+    destroy_saddle_point();
   }
 
   KrylovReport solve(const CsrView& A, bool new_pattern, const double* b, double* x, double rtol,
@@ -96,27 +100,33 @@ class PetscKrylov final : public KrylovBackend {
       values_changed();
     if (!ksp_) make_ksp();
     check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
-    check(KSPSetTolerances(ksp_, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
-    Vec vb = nullptr, vx = nullptr;
-    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, A.n, b, &vb), "VecCreateSeqWithArray");
-    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, A.n, x, &vx), "VecCreateSeqWithArray");
-    const PetscErrorCode code = KSPSolve(ksp_, vb, vx);
-    VecDestroy(&vb);
-    VecDestroy(&vx);
-    check(code, "KSPSolve");
-    KrylovReport report;
-    KSPConvergedReason reason;
-    check(KSPGetConvergedReason(ksp_, &reason), "KSPGetConvergedReason");
-    report.reason = KSPConvergedReasons[reason];
-    PetscInt its = 0;
-    check(KSPGetIterationNumber(ksp_, &its), "KSPGetIterationNumber");
     // MUMPS is a factorization: its one "iteration" is the triangular solves.
-    report.iterations = method_ == KrylovMethod::mumps ? 0 : static_cast<int>(its);
-    check(KSPGetResidualNorm(ksp_, &report.residual), "KSPGetResidualNorm");
-    if (reason < 0)
-      throw std::runtime_error("PETSc " + method_name() + ": " + report.reason + " after " +
-                               std::to_string(its) + " iterations");
-    return report;
+    return run(ksp_, A.n, b, x, rtol, atol, max_iterations, method_ != KrylovMethod::mumps,
+               method_name());
+  }
+
+  KrylovReport solve_saddle_point(const CsrView& A, bool new_pattern, bool new_values,
+                                  const CsrView& B, const double* schur, const double* b, double* x,
+                                  double rtol, double atol, int max_iterations) override {
+    const bool same = !new_pattern && A_ && saddle_ksp_ && A.row_start == row_start_ &&
+                      A.columns == columns_ && A.values == values_ && A.n == n_ && B.n == rows_ &&
+                      B.row_start[B.n] == rows_nonzeros_;
+    if (same && !new_values) {
+      // The same matrices (a refinement step): the preconditioner as it is.
+    } else if (same) {
+      values_changed();
+      set_rows(B, schur);
+      // A nest does not see its blocks' values change: assembling it raises its state, so that
+      // the preconditioner is set up again on them (the multigrid's Galerkin products, MUMPS's
+      // numbers).
+      check(MatAssemblyBegin(nest_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+      check(MatAssemblyEnd(nest_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    } else {
+      make_matrix(A);
+      make_saddle_point(B, schur);
+    }
+    return run(saddle_ksp_, A.n + B.n, b, x, rtol, atol, max_iterations, true,
+               "FGMRES, " + method_name() + " on the augmented block");
   }
 
  private:
@@ -132,6 +142,31 @@ class PetscKrylov final : public KrylovBackend {
         return "CG with geometric multigrid";
     }
     return "solver";
+  }
+
+  // x = A⁻¹ b by `ksp` from x = 0 (b and x: n entries, the caller's arrays).
+  static KrylovReport run(KSP ksp, int n, const double* b, double* x, double rtol, double atol,
+                          int max_iterations, bool count, const std::string& name) {
+    check(KSPSetTolerances(ksp, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
+    Vec vb = nullptr, vx = nullptr;
+    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, b, &vb), "VecCreateSeqWithArray");
+    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x, &vx), "VecCreateSeqWithArray");
+    const PetscErrorCode code = KSPSolve(ksp, vb, vx);
+    VecDestroy(&vb);
+    VecDestroy(&vx);
+    check(code, "KSPSolve");
+    KrylovReport report;
+    KSPConvergedReason reason;
+    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+    report.reason = KSPConvergedReasons[reason];
+    PetscInt its = 0;
+    check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+    report.iterations = count ? static_cast<int>(its) : 0;
+    check(KSPGetResidualNorm(ksp, &report.residual), "KSPGetResidualNorm");
+    if (reason < 0)
+      throw std::runtime_error("PETSc " + name + ": " + report.reason + " after " +
+                               std::to_string(its) + " iterations");
+    return report;
   }
 
   // The values in A's arrays changed: restoring the value array is what tells PETSc (it raises the
@@ -165,32 +200,127 @@ class PetscKrylov final : public KrylovBackend {
     check(KSPSetOptionsPrefix(ksp_, "isoflex_"), "KSPSetOptionsPrefix");
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
+    check(KSPSetType(ksp_, method_ == KrylovMethod::mumps ? KSPPREONLY : KSPCG), "KSPSetType");
+    set_preconditioner(pc);
+    if (method_ != KrylovMethod::mumps)
+      check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+    check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+  }
+
+  // The method's preconditioner of A (of Â in the saddle point).
+  void set_preconditioner(PC pc) {
     switch (method_) {
       case KrylovMethod::cg_gamg:
-        check(KSPSetType(ksp_, KSPCG), "KSPSetType");
         check(PCSetType(pc, PCGAMG), "PCSetType");
         // Newton's matrices change their values, not their graph: keep the aggregates and
         // prolongators, recompute the Galerkin products.
         check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
         break;
       case KrylovMethod::cg_hypre:
-        check(KSPSetType(ksp_, KSPCG), "KSPSetType");
         check(PCSetType(pc, PCHYPRE), "PCSetType");
         check(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
         break;
       case KrylovMethod::cg_multigrid:
-        check(KSPSetType(ksp_, KSPCG), "KSPSetType");
         setup_multigrid(pc);
         break;
       case KrylovMethod::mumps:
-        check(KSPSetType(ksp_, KSPPREONLY), "KSPSetType");
         check(PCSetType(pc, PCCHOLESKY), "PCSetType");
         check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
         break;
     }
-    if (method_ != KrylovMethod::mumps)
-      check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
-    check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+  }
+
+  // B_H's values and the Schur diagonal into the kept matrices (the same pattern).
+  void set_rows(const CsrView& B, const double* schur) {
+    PetscScalar* v = nullptr;
+    check(MatSeqAIJGetArray(B_, &v), "MatSeqAIJGetArray");
+    std::copy(B.values, B.values + B.row_start[B.n], v);
+    check(MatSeqAIJRestoreArray(B_, &v), "MatSeqAIJRestoreArray");
+    check(MatSeqAIJGetArray(S_, &v), "MatSeqAIJGetArray");
+    std::copy(schur, schur + B.n, v);
+    check(MatSeqAIJRestoreArray(S_, &v), "MatSeqAIJRestoreArray");
+  }
+
+  // The saddle point's operator, the nest [A Bᵀ; B 0] (Bᵀ not formed: MatCreateTranspose), and
+  // its solver: FGMRES right-preconditioned by PCFIELDSPLIT's upper block triangle. A's block is
+  // one application of the method's preconditioner (KSPPREONLY: PCFIELDSPLIT's default for it
+  // is an inner GMRES), S's the inverse of the diagonal `schur` (PCJACOBI on a diagonal matrix is
+  // exact). PETSC_OPTIONS overrides any of it (prefixes isoflex_fieldsplit_primal_, _rows_).
+  void make_saddle_point(const CsrView& B, const double* schur) {
+    destroy_saddle_point();
+    const PetscInt h = B.n, p = B.cols;
+    std::vector<PetscInt> diagonal(static_cast<std::size_t>(h) + 1);
+    for (PetscInt i = 0; i <= h; ++i) diagonal[static_cast<std::size_t>(i)] = i;
+    std::vector<PetscScalar> zeros(static_cast<std::size_t>(h), 0.0);
+    check(MatCreateSeqAIJ(PETSC_COMM_SELF, h, p, 0, nullptr, &B_), "MatCreateSeqAIJ");
+    check(MatSeqAIJSetPreallocationCSR(B_, B.row_start, B.columns, B.values),
+          "MatSeqAIJSetPreallocationCSR");
+    check(MatCreateTranspose(B_, &BT_), "MatCreateTranspose");
+    check(MatCreateSeqAIJ(PETSC_COMM_SELF, h, h, 1, nullptr, &Z_), "MatCreateSeqAIJ");
+    check(MatSeqAIJSetPreallocationCSR(Z_, diagonal.data(), diagonal.data(), zeros.data()),
+          "MatSeqAIJSetPreallocationCSR");
+    check(MatCreateSeqAIJ(PETSC_COMM_SELF, h, h, 1, nullptr, &S_), "MatCreateSeqAIJ");
+    check(MatSeqAIJSetPreallocationCSR(S_, diagonal.data(), diagonal.data(), schur),
+          "MatSeqAIJSetPreallocationCSR");
+    const Mat blocks[4] = {A_, BT_, B_, Z_};
+    check(MatCreateNest(PETSC_COMM_SELF, 2, nullptr, 2, nullptr, blocks, &nest_), "MatCreateNest");
+    rows_ = h;
+    rows_nonzeros_ = B.row_start[h];
+
+    check(KSPCreate(PETSC_COMM_SELF, &saddle_ksp_), "KSPCreate");
+    check(KSPSetOptionsPrefix(saddle_ksp_, "isoflex_"), "KSPSetOptionsPrefix");
+    check(KSPSetType(saddle_ksp_, KSPFGMRES), "KSPSetType");
+    // No restart in a solve that converges (its recurrence keeps falling past the round-off of
+    // the true residual, as CG's does; a restart starts again from that round-off).
+    check(KSPGMRESSetRestart(saddle_ksp_, kSaddlePointRestart), "KSPGMRESSetRestart");
+    check(KSPSetOperators(saddle_ksp_, nest_, nest_), "KSPSetOperators");
+    PC pc = nullptr;
+    check(KSPGetPC(saddle_ksp_, &pc), "KSPGetPC");
+    check(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
+    IS fields[2];
+    check(MatNestGetISs(nest_, fields, nullptr), "MatNestGetISs");
+    check(PCFieldSplitSetIS(pc, "primal", fields[0]), "PCFieldSplitSetIS");
+    check(PCFieldSplitSetIS(pc, "rows", fields[1]), "PCFieldSplitSetIS");
+    check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
+    check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_UPPER),
+          "PCFieldSplitSetSchurFactType");
+    check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, S_), "PCFieldSplitSetSchurPre");
+    check(KSPSetFromOptions(saddle_ksp_), "KSPSetFromOptions");
+    // The blocks' solvers exist once the field split is set up (not yet the blocks' own
+    // preconditioners, which are set up on their first use).
+    check(PCSetUp(pc), "PCSetUp");
+    PetscInt count = 0;
+    KSP* sub = nullptr;
+    check(PCFieldSplitGetSubKSP(pc, &count, &sub), "PCFieldSplitGetSubKSP");
+    const auto user_set = [](KSP ksp) {
+      const char* prefix = nullptr;
+      PetscBool set = PETSC_FALSE;
+      check(KSPGetOptionsPrefix(ksp, &prefix), "KSPGetOptionsPrefix");
+      check(PetscOptionsHasName(nullptr, prefix, "-pc_type", &set), "PetscOptionsHasName");
+      return set == PETSC_TRUE;
+    };
+    for (PetscInt k = 0; k < count; ++k) {
+      PC sub_pc = nullptr;
+      check(KSPGetPC(sub[k], &sub_pc), "KSPGetPC");
+      if (user_set(sub[k])) continue;
+      check(KSPSetType(sub[k], KSPPREONLY), "KSPSetType");
+      if (k == 0)
+        set_preconditioner(sub_pc);
+      else
+        check(PCSetType(sub_pc, PCJACOBI), "PCSetType");
+      check(KSPSetFromOptions(sub[k]), "KSPSetFromOptions");
+    }
+    PetscFree(sub);
+  }
+
+  void destroy_saddle_point() {
+    if (saddle_ksp_) KSPDestroy(&saddle_ksp_);
+    if (nest_) MatDestroy(&nest_);
+    if (BT_) MatDestroy(&BT_);
+    if (B_) MatDestroy(&B_);
+    if (Z_) MatDestroy(&Z_);
+    if (S_) MatDestroy(&S_);
+    rows_ = rows_nonzeros_ = -1;
   }
 
   // PETSc numbers the levels from the coarsest (0) to the finest (count): P_l interpolates into
@@ -226,11 +356,16 @@ class PetscKrylov final : public KrylovBackend {
       check(PCBJacobiSetTotalBlocks(block, std::max<PetscInt>(1, n / kSmootherBlock), nullptr),
             "PCBJacobiSetTotalBlocks");
     }
+    // The option of the levels' blocks, under the PC's own prefix (isoflex_, or that of the
+    // saddle point's primal block).
+    const char* prefix = nullptr;
+    check(PCGetOptionsPrefix(pc, &prefix), "PCGetOptionsPrefix");
+    const std::string levels = std::string(prefix ? prefix : "") + "mg_levels_";
     PetscBool user_sub = PETSC_FALSE;
-    check(PetscOptionsHasName(nullptr, "isoflex_mg_levels_", "-sub_pc_type", &user_sub),
+    check(PetscOptionsHasName(nullptr, levels.c_str(), "-sub_pc_type", &user_sub),
           "PetscOptionsHasName");
     if (!user_sub)
-      check(PetscOptionsSetValue(nullptr, "-isoflex_mg_levels_sub_pc_type", "cholesky"),
+      check(PetscOptionsSetValue(nullptr, ("-" + levels + "sub_pc_type").c_str(), "cholesky"),
             "PetscOptionsSetValue");
     KSP coarse = nullptr;
     check(PCMGGetCoarseSolve(pc, &coarse), "PCMGGetCoarseSolve");
@@ -249,6 +384,10 @@ class PetscKrylov final : public KrylovBackend {
   const int* columns_ = nullptr;
   const double* values_ = nullptr;
   int n_ = -1;
+  // The saddle point (make_saddle_point): B_H, Bᵀ, the zero block, S's diagonal, the nest.
+  Mat B_ = nullptr, BT_ = nullptr, Z_ = nullptr, S_ = nullptr, nest_ = nullptr;
+  KSP saddle_ksp_ = nullptr;
+  int rows_ = -1, rows_nonzeros_ = -1;
 };
 
 }  // namespace
