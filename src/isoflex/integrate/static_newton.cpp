@@ -372,13 +372,13 @@ struct StaticNewtonSolver::Impl {
         const double scale = f.norm() / std::max(r.norm(), 1e-300);
         const bool new_pattern = krylov_pattern != pattern_version;
         const double f_atol = c == 0 ? scale * atol : 0.0;
-        // Every row compliant or implied: Â alone (conjugate gradients).
         // A cycle reduces the residual by at most kSaddlePointCycleTolerance: the next starts
         // from the true residual, not from the recurrence's, which runs ahead of it below
         // round-off.
         const double f_rtol = std::max(rtol, kSaddlePointCycleTolerance);
         // The preconditioner is set up on the first cycle of a solve, not again for the others.
         const bool new_values = c == 0 && cycle == 0;
+        // Every row compliant or implied: Â alone (conjugate gradients).
         const VecX u = BH.rows() == 0 ? krylov->solve(Ahat, new_pattern, f, f_rtol, f_atol)
                                       : krylov->solve_saddle_point(Ahat, new_pattern, new_values,
                                                                    BH, schur, f, f_rtol, f_atol);
