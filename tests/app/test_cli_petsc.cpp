@@ -34,6 +34,18 @@ int summary_integer(const std::string& summary, const std::string& key) {
   const auto p = summary.find("\"" + key + "\": ");
   return p == std::string::npos ? -1 : std::stoi(summary.substr(p + key.size() + 4));
 }
+// A run into `out` by the PETSc solver `method` that needed no fallback: no warning, and
+// summary.json names the solver and counts its iterations.
+void expect_petsc_run(const isoflex::test::CliResult& r, const fs::path& out,
+                      const std::string& method) {
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  const std::string summary = read_text(out / "summary.json");
+  EXPECT_NE(summary.find("\"linear_solver\": \"" + method + "\""), std::string::npos) << summary;
+  EXPECT_GT(summary_integer(summary, "krylov_iterations_total"), 0) << summary;
+  EXPECT_EQ(summary_integer(summary, "linear_solver_fallbacks"), 0) << summary;
+}
+
 }  // namespace
 
 TEST(CliPetsc, CheckAndSummarySayWhichSolverAndHowManyIterations) {
@@ -48,12 +60,7 @@ TEST(CliPetsc, CheckAndSummarySayWhichSolverAndHowManyIterations) {
             std::string::npos)
       << c.out;
   const auto r = run_isoflex("run " + m.string() + " -o " + (d.path() / "o").string());
-  ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
-  const std::string summary = read_text(d.path() / "o" / "summary.json");
-  EXPECT_NE(summary.find("\"linear_solver\": \"cg_multigrid\""), std::string::npos) << summary;
-  EXPECT_GT(summary_integer(summary, "krylov_iterations_total"), 0) << summary;
-  EXPECT_EQ(summary_integer(summary, "linear_solver_fallbacks"), 0) << summary;
+  expect_petsc_run(r, d.path() / "o", "cg_multigrid");
 }
 
 // The quarter roof's symmetry supports are multiplier rows: the PETSc solver takes its saddle
@@ -66,13 +73,8 @@ TEST(CliPetsc, AMatrixWithMultiplierRowsIsSolvedByThePetscSolver) {
       model_file(d, replaced(read_text(ISOFLEX_SOURCE_DIR "/examples/scordelis_lo/kl_shell.yaml"),
                              "  linear: true", "  linear: true\n  linear_solver: cg_multigrid"));
   const auto r = run_isoflex("run " + m.string() + " -o " + (d.path() / "o").string());
-  ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  expect_petsc_run(r, d.path() / "o", "cg_multigrid");
   EXPECT_NE(r.out.find("-0.3005"), std::string::npos) << r.out;  // the probe's u_y
-  const std::string summary = read_text(d.path() / "o" / "summary.json");
-  EXPECT_NE(summary.find("\"linear_solver\": \"cg_multigrid\""), std::string::npos) << summary;
-  EXPECT_GT(summary_integer(summary, "krylov_iterations_total"), 0) << summary;
-  EXPECT_EQ(summary_integer(summary, "linear_solver_fallbacks"), 0) << summary;
 }
 
 // A saddle-point solve that fails (here: PETSC_OPTIONS leave the augmented block without a
