@@ -148,8 +148,7 @@ class ReducedNewtonMatrix {
   mutable VecX permuted_, solved_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
   mutable VecX force_qn_, force_q1_;  // the arguments f_ was computed for
-  mutable VecX strains_qn_;           // the qₙ of beam_strains_n_
-  mutable std::vector<elements::BeamElement::Strain6> beam_strains_n_;  // raw strains at qₙ
+  mutable std::vector<elements::BeamElement::Strain6> beam_strains_n_;  // raw strains at force_qn_
   mutable double force_dt_ = 0.0, force_t_ = 0.0;
   mutable std::vector<Small> J_;
   mutable BlockLU block_lu_;
