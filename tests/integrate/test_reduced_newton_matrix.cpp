@@ -154,7 +154,8 @@ TEST(ReducedNewtonMatrix, AChordSolveReusesTheFactorization) {
 }
 
 // Block LU in minimum-degree order equals a dense LU on a random block-sparse matrix (a block
-// tridiagonal chain of groups of widths 1…6 with an arrow to the last group).
+// tridiagonal chain of groups of widths 1…6 with an arrow to the last group), and its blocks'
+// product equals the dense one.
 TEST(ReducedNewtonMatrix, BlockLUSolvesBlockSparseSystems) {
   const int n = 12;
   std::vector<int> offset, width;
@@ -177,25 +178,31 @@ TEST(ReducedNewtonMatrix, BlockLUSolvesBlockSparseSystems) {
     }
   }
   std::srand(3);
-  std::vector<integrate::BlockLU::Small> values;
+  using Block6 = integrate::BlockLU::Block6;
+  std::vector<Block6> values;
   MatX A = MatX::Zero(size, size);
   for (const auto& [g, h] : blocks) {
-    integrate::BlockLU::Small B = integrate::BlockLU::Small::Random(width[g], width[h]);
-    if (g == h) B += 8.0 * integrate::BlockLU::Small::Identity(width[g], width[g]);
-    A.block(offset[g], offset[h], width[g], width[h]) += B;
+    Block6 B = Block6::Zero();
+    B.topLeftCorner(width[g], width[h]).setRandom();
+    if (g == h) B.topLeftCorner(width[g], width[g]).diagonal().array() += 8.0;
+    A.block(offset[g], offset[h], width[g], width[h]) += B.topLeftCorner(width[g], width[h]);
     values.push_back(B);
   }
   integrate::BlockLU lu(offset, width, blocks);
   ASSERT_TRUE(lu.factorize(values));
   const VecX b = VecX::Random(size);
   EXPECT_LT((A * lu.solve(b) - b).lpNorm<Eigen::Infinity>(), 1e-12);
+  VecX Ab;
+  lu.multiply(values, b, Ab);
+  EXPECT_LT((Ab - A * b).lpNorm<Eigen::Infinity>(), 1e-13);
   // Pivot blocks that need row exchanges (a zero leading entry, 8 off the diagonal).
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     const auto [g, h] = blocks[k];
     if (g != h || width[g] < 2) continue;
-    integrate::BlockLU::Small P = integrate::BlockLU::Small::Zero(width[g], width[g]);
+    Block6 P = Block6::Zero();
     for (int r = 0; r < width[g]; ++r) P(r, (r + 1) % width[g]) = 8.0;
-    A.block(offset[g], offset[g], width[g], width[g]) += P - values[k];
+    A.block(offset[g], offset[g], width[g], width[g]) +=
+        (P - values[k]).topLeftCorner(width[g], width[g]);
     values[k] = P;
   }
   ASSERT_TRUE(lu.factorize(values));
@@ -218,4 +225,35 @@ TEST(ReducedNewtonMatrix, TrajectoriesAgreeWithExplicitPath) {
               1e-10 * std::max(1.0, a.v.lpNorm<Eigen::Infinity>()) / m.solver.dt)
         << m.name;
   }
+}
+
+// A λ̂ from the caller (at a Newton start, the last step's multipliers) takes the place of the
+// least squares from r₀: the multipliers of the iterate's own configuration give the matrix the
+// least squares gives, twice them another one; the residual does not depend on λ̂.
+TEST(ReducedNewtonMatrix, AGivenLambdaHatTakesThePlaceOfTheLeastSquares) {
+  const auto m = slider_crank();
+  const auto sys = system::System::compile(m);
+  EnergyMomentumIntegrator a(sys, m.solver);
+  integrate::ReducedNewtonMatrix rn(sys);
+  auto s = a.initial_state();
+  for (int i = 0; i < 3; ++i) a.step(s);
+  solve::NormalEquations normal;
+  const double dt = m.solver.dt, t_mid = s.t + 0.5 * dt;
+  std::srand(9);
+  const VecX x = a.start_unknowns(s) + 1e-3 * VecX::Random(sys.k());
+  system::SpMat J0, J1, J2;
+  const VecX R0 = rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J0);
+  VecX q1;
+  std::vector<Mat3> steps;
+  sys.update(s.q, x, q1, steps);
+  VecX lambda;
+  double mismatch = 0.0;
+  ASSERT_TRUE(rn.multipliers(s.q, s.v, q1, dt, t_mid, normal, lambda, mismatch));
+  ASSERT_EQ(lambda.size(), sys.m_selected());
+  const VecX R1 = rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J1, &lambda);
+  EXPECT_LT(relative_difference(MatX(J0), MatX(J1)), 1e-10);
+  EXPECT_EQ(R1, R0);
+  const VecX twice = 2.0 * lambda;
+  rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J2, &twice);
+  EXPECT_GT(relative_difference(MatX(J0), MatX(J2)), 1e-8);
 }

@@ -133,17 +133,17 @@ BeamElement::Strain6 BeamElement::raw_strains(const Q& q) const {
   return e;
 }
 
-Mat<6, BeamElement::kCoords> BeamElement::strain_jacobian(const Q& q) const {
-  // Row k of B is (H_k q)ᵀ = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
+Mat<BeamElement::kCoords, 6> BeamElement::strain_jacobian_transpose(const Q& q) const {
+  // Column k of Bᵀ is H_k q = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
   // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_, two
   // per column without corner triads) instead of the dense 3 × 8 by 8 × 8 product.
-  Mat<6, kCoords> B = Mat<6, kCoords>::Zero();
+  Mat<kCoords, 6> Bt = Mat<kCoords, 6>::Zero();
   for (int k = 0; k < 6; ++k)
     for (int n = first_[k]; n < first_[k + 1]; ++n) {
       const Entry& e = entries_[static_cast<std::size_t>(n)];
-      B.block<1, 3>(k, 3 * e.c) += e.h * q.segment<3>(3 * e.b).transpose();
+      Bt.col(k).segment<3>(3 * e.c) += e.h * q.segment<3>(3 * e.b);
     }
-  return B;
+  return Bt;
 }
 
 Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::weighted_strain_hessian(
@@ -174,16 +174,16 @@ double BeamElement::potential(const VecX& qx) const {
 VecX BeamElement::gradient(const VecX& qx) const {
   const Q q = as_element_q(qx);
   const Strain6 S = C_.cwiseProduct(raw_strains(q) - e0_);  // (n, m), DNSM-III (69)
-  const Vec<kCoords> g = L0_ * strain_jacobian(q).transpose() * S + gravity_gradient();
+  const Vec<kCoords> g = L0_ * strain_jacobian_transpose(q) * S + gravity_gradient();
   return g;
 }
 
 Mat<BeamElement::kCoords, BeamElement::kCoords> BeamElement::hessian(const VecX& qx) const {
   const Q q = as_element_q(qx);
   const Strain6 S = C_.cwiseProduct(raw_strains(q) - e0_);
-  const Mat<6, kCoords> B = strain_jacobian(q);
-  const Mat<kCoords, 6> BC = B.transpose() * C_.asDiagonal();
-  return L0_ * (BC.lazyProduct(B) + weighted_strain_hessian(S));
+  const Mat<kCoords, 6> Bt = strain_jacobian_transpose(q);
+  const Mat<kCoords, 6> BC = Bt * C_.asDiagonal();
+  return L0_ * (BC.lazyProduct(Bt.transpose()) + weighted_strain_hessian(S));
 }
 
 VecX BeamElement::discrete_gradient(const VecX& qnx, const VecX& qn1x, MatX* dv_dqn1) const {
@@ -203,22 +203,25 @@ void BeamElement::discrete_gradient(const Q& qn, const Q& qn1, Q& dv,
                                     const Strain6* strains_n) const {
   const Q qm = 0.5 * (qn + qn1);
   // Average strain Ē = ½(E(qₙ) + E(qₙ₊₁)), not E(q_{n+½}): with E quadratic,
-  // E(qₙ₊₁) − E(qₙ) = B(q_{n+½})(qₙ₊₁ − qₙ) exactly, so DV·Δq = ΔV (theory-notes, average strain).
-  const Strain6 e_avg = 0.5 * ((strains_n ? *strains_n : raw_strains(qn)) + raw_strains(qn1)) - e0_;
+  // E(qₙ₊₁) − E(qₙ) = B(q_{n+½})(qₙ₊₁ − qₙ) exactly, so DV·Δq = ΔV (theory-notes, average strain),
+  // and Ē = E(qₙ) + ½ B(q_{n+½}) Δq needs no strains at qₙ₊₁.
+  const Mat<kCoords, 6> Bmt = strain_jacobian_transpose(qm);
+  const Strain6 e_avg =
+      (strains_n ? *strains_n : raw_strains(qn)) + 0.5 * (Bmt.transpose() * (qn1 - qn)) - e0_;
   const Strain6 S = C_.cwiseProduct(e_avg);
-  const Mat<6, kCoords> Bm = strain_jacobian(qm);
-  dv = L0_ * Bm.transpose() * S + gravity_gradient();
+  dv = L0_ * Bmt * S + gravity_gradient();
   if (!dv_dqn1) return;
   // ∂/∂qₙ₊₁ [B(q_{n+½})ᵀ S̄] = ½ Σ_k S̄_k H_k + B(q_{n+½})ᵀ C ½ B(qₙ₊₁) — not symmetric.
   // Bᵀ C B′ as six rank-one updates, column by column (24-vectors: unrolled and vectorized; the
   // lazy 24 × 6 by 6 × 24 product went coefficient by coefficient), then Σ_k S̄_k h_k ⊗ I₃ on
   // the diagonals of the 3 × 3 blocks.
-  const Mat<kCoords, 6> BmC = Bm.transpose() * C_.asDiagonal();
-  const Mat<6, kCoords> B1 = strain_jacobian(qn1);
+  Mat<kCoords, 6> BmC = Bmt;
+  for (int k = 0; k < 6; ++k) BmC.col(k) *= C_(k);
+  const Mat<kCoords, 6> B1t = strain_jacobian_transpose(qn1);
   Mat<kCoords, kCoords>& K = *dv_dqn1;
   for (int c = 0; c < kCoords; ++c)
-    K.col(c) = BmC.col(0) * B1(0, c) + BmC.col(1) * B1(1, c) + BmC.col(2) * B1(2, c) +
-               BmC.col(3) * B1(3, c) + BmC.col(4) * B1(4, c) + BmC.col(5) * B1(5, c);
+    K.col(c) = BmC.col(0) * B1t(c, 0) + BmC.col(1) * B1t(c, 1) + BmC.col(2) * B1t(c, 2) +
+               BmC.col(3) * B1t(c, 3) + BmC.col(4) * B1t(c, 4) + BmC.col(5) * B1t(c, 5);
   Block8 h = Block8::Zero();
   for (int k = 0; k < 6; ++k) h += S(k) * h_[k];
   for (int b = 0; b < 8; ++b)
@@ -233,29 +236,31 @@ VecX BeamElement::strain_dissipation_force_in_pattern(const VecX& q_prevx, const
   const Strain6 en = raw_strains(qn);
   const Strain6 d2e = raw_strains(qn1) - en - ratio * (en - raw_strains(as_element_q(q_prevx)));
   const Strain6 S = chi * C_.cwiseProduct(d2e);
-  const Mat<6, kCoords> Bm = strain_jacobian(0.5 * (qn + qn1));
+  const Mat<kCoords, 6> Bmt = strain_jacobian_transpose(0.5 * (qn + qn1));
   if (values) {
-    const Mat<kCoords, 6> BmC = Bm.transpose() * (chi * C_).asDiagonal();
+    const Mat<kCoords, 6> BmC = Bmt * (chi * C_).asDiagonal();
     Eigen::Map<Mat<kCoords, kCoords>>(values) +=
-        L0_ * (BmC.lazyProduct(strain_jacobian(qn1)) + 0.5 * weighted_strain_hessian(S));
+        L0_ * (BmC.lazyProduct(strain_jacobian_transpose(qn1).transpose()) +
+               0.5 * weighted_strain_hessian(S));
   }
-  return L0_ * Bm.transpose() * S;
+  return L0_ * Bmt * S;
 }
 
 VecX BeamElement::viscous_force_in_pattern(const VecX& qx, const VecX& qdotx, double cq, double cv,
                                            double* values) const {
   const Q q = as_element_q(qx), v = as_element_q(qdotx);
-  const Mat<6, kCoords> B = strain_jacobian(q);
+  const Mat<kCoords, 6> Bt = strain_jacobian_transpose(q);
   const Strain6 etaC = section_.eta * C_;
-  const Strain6 Sv = etaC.cwiseProduct(B * v);  // η C Ė, Ė = B(q) q̇
+  const Strain6 Sv = etaC.cwiseProduct(Bt.transpose() * v);  // η C Ė, Ė = B(q) q̇
   if (values) {
-    const Mat<kCoords, 6> BC = B.transpose() * etaC.asDiagonal();
+    const Mat<kCoords, 6> BC = Bt * etaC.asDiagonal();
     const Mat<kCoords, kCoords> K =
-        L0_ * (cv * BC.lazyProduct(B) +
-               cq * (weighted_strain_hessian(Sv) + BC.lazyProduct(strain_jacobian(v))));
+        L0_ * (cv * BC.lazyProduct(Bt.transpose()) +
+               cq * (weighted_strain_hessian(Sv) +
+                     BC.lazyProduct(strain_jacobian_transpose(v).transpose())));
     Eigen::Map<Mat<kCoords, kCoords>>(values) += K;  // the dense pattern, column-major
   }
-  return L0_ * B.transpose() * Sv;
+  return L0_ * Bt * Sv;
 }
 
 MatX BeamElement::mass() const {

@@ -122,9 +122,9 @@ class BeamElement final : public Element {
     double h;
   };
 
-  // Raw strains ½ qᵀ H_k q (without the reference values).
-  // B(q) = ∂E/∂q, row k = (H_k q)ᵀ; linear in q.
-  Mat<6, kCoords> strain_jacobian(const Q& q) const;
+  // B(q)ᵀ, B(q) = ∂E/∂q the strain Jacobian (row k = (H_k q)ᵀ, linear in q), stored as its
+  // transpose: column k is H_k q, built from contiguous 3-vectors.
+  Mat<kCoords, 6> strain_jacobian_transpose(const Q& q) const;
   // Σ_k S_k H_k = (Σ_k S_k h_k) ⊗ I₃.
   Mat<kCoords, kCoords> weighted_strain_hessian(const Strain6& S) const;
   Vec<kCoords> gravity_gradient() const;

@@ -61,6 +61,11 @@ BlockLU::BlockLU(std::vector<int> offset, std::vector<int> width,
     p.last_update = static_cast<int>(updates_.size());
   }
   for (const auto& [g, h] : blocks) input_.push_back(block(g, h));
+  input_groups_ = blocks;
+  std::vector<bool> is_input(blocks_.size(), false);
+  for (int b : input_) is_input[b] = true;
+  for (std::size_t b = 0; b < blocks_.size(); ++b)
+    if (!is_input[b]) fill_.push_back(static_cast<int>(b));
   inverse_.resize(order_.size());
 }
 
@@ -116,11 +121,10 @@ bool invert(const Mat6& D, int n, Mat6& inv) {
 }
 }  // namespace
 
-bool BlockLU::factorize(const std::vector<Small>& values) {
+bool BlockLU::factorize(const std::vector<Block6>& values) {
   if (values.size() != input_.size()) throw std::invalid_argument("BlockLU: wrong block count");
-  for (Block6& B : blocks_) B.setZero();
-  for (std::size_t b = 0; b < values.size(); ++b)
-    blocks_[input_[b]].topLeftCorner(values[b].rows(), values[b].cols()) += values[b];
+  for (int b : fill_) blocks_[b].setZero();
+  for (std::size_t b = 0; b < values.size(); ++b) blocks_[input_[b]] = values[b];
   for (std::size_t k = 0; k < order_.size(); ++k) {
     const Pivot& p = order_[k];
     if (!invert(blocks_[p.diag], width_[p.group], inverse_[k])) return false;
@@ -134,6 +138,18 @@ bool BlockLU::factorize(const std::vector<Small>& values) {
     }
   }
   return true;
+}
+
+void BlockLU::multiply(const std::vector<Block6>& values, const VecX& x, VecX& y) const {
+  using Vec6 = Vec<6>;
+  y.setZero(size_);
+  for (std::size_t b = 0; b < values.size(); ++b) {
+    const auto [g, h] = input_groups_[b];
+    Vec6 xh = Vec6::Zero();
+    xh.head(width_[h]) = x.segment(offset_[h], width_[h]);
+    const Vec6 yg = values[b] * xh;
+    y.segment(offset_[g], width_[g]) += yg.head(width_[g]);
+  }
 }
 
 VecX BlockLU::solve(const VecX& b) const {

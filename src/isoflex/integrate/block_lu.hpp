@@ -15,17 +15,23 @@ namespace isoflex::integrate {
 
 class BlockLU {
  public:
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  // Every block is stored as a 6 × 6 matrix, zero outside its groups' widths, so that the
+  // products are the fixed-size ones (the zeros stay zero: an L block has no rows or columns
+  // beyond its groups' widths, a padded inverse neither).
+  using Block6 = Mat<6, 6>;
   BlockLU() = default;
   // Group g occupies rows/columns [offset[g], offset[g] + width[g]) (width ≤ 6); `blocks` lists
   // the nonzero blocks (g, h), every diagonal block included, structurally symmetric.
   BlockLU(std::vector<int> offset, std::vector<int> width,
           const std::vector<std::pair<int, int>>& blocks);
-  // values[b]: block `blocks[b]`. False if a pivot block is singular or the ratio of its smallest
-  // to largest LU pivot is below 1e-12.
-  bool factorize(const std::vector<Small>& values);
+  // values[b]: block `blocks[b]`, zero outside its width[g] × width[h] corner. False if a pivot
+  // block is singular or the ratio of its smallest to largest LU pivot is below 1e-12.
+  bool factorize(const std::vector<Block6>& values);
   VecX solve(const VecX& b) const;
   void solve(const VecX& b, VecX& x) const;  // the same into x (no allocation once sized)
+  // y = A x for the matrix A of `values` (as factorize's): the residual check of a solve in the
+  // blocks' fixed-size products.
+  void multiply(const std::vector<Block6>& values, const VecX& x, VecX& y) const;
   int size() const { return size_; }
   int filled_blocks() const { return static_cast<int>(blocks_.size()); }
 
@@ -39,14 +45,12 @@ class BlockLU {
     std::vector<std::pair<int, int>> upper;  // (column group j, block (v, j))
     int first_update = 0, last_update = 0;
   };
-  // Every block is stored as a 6 × 6 matrix, zero outside its widths, so that the products are
-  // the fixed-size ones (the zeros stay zero: an L block has no rows or columns beyond its
-  // groups' widths, a padded inverse neither).
-  using Block6 = Mat<6, 6>;
   std::vector<int> offset_, width_;
+  std::vector<std::pair<int, int>> input_groups_;  // (g, h) of each input block
   int size_ = 0;
   std::vector<Pivot> order_;     // elimination order
   std::vector<int> input_;       // storage block of each input block
+  std::vector<int> fill_;        // storage blocks that are no input block
   std::vector<Block6> blocks_;   // filled pattern: L (strict lower), U, diagonal
   std::vector<Block6> inverse_;  // D⁻¹ of each pivot (order_ index)
   std::vector<Update> updates_;

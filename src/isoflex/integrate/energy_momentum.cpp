@@ -204,12 +204,12 @@ const VecX& EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const Ve
 }
 
 const VecX& EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX& x,
-                                               NewtonMatrix* NJ, bool bordered) const {
+                                               NewtonMatrix* NJ, bool bordered, bool start) const {
   if (blocks_ && !bordered) {
     // Reparametrized, no loop-closing rows: fixed-pattern block assembly of 𝖯ᵀ K̂ F′.
     if (NJ) NJ->blocks = true;
     return blocks_->evaluate(c.s->q, c.s->v, x, c.dt, c.t_mid, normal_equations_,
-                             NJ ? &NJ->A : nullptr);
+                             NJ ? &NJ->A : nullptr, start ? &c.s->lambda : nullptr);
   }
   residual_ = evaluate_assembled(c, x, NJ, bordered);
   return residual_;
@@ -442,9 +442,11 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     opt.stop_when_diverging = k + 1 < starts.size();
     const NewtonOutcome o = newton_loop(
         opt,
-        [&](bool matrix) -> const VecX& {
+        [&, start = true](bool matrix) mutable -> const VecX& {
           fresh = fresh || matrix;
-          return evaluate(c, x, matrix ? &J : nullptr, fast);
+          const VecX& R = evaluate(c, x, matrix ? &J : nullptr, fast, start);
+          start = false;
+          return R;
         },
         [&] { return ref; },
         [&](const VecX& R) {
@@ -494,7 +496,10 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   // G̃ᵀλ add −λ·(d(tₙ₊₁) − d(tₙ)) to the energy in the step, exactly (G̃ Δq = ΔΦ; DNSM-III (9)
   // with a right-hand side): the drivers' work, summed wherever the step's λ is recovered (joint
   // drivers, or reactions written).
-  if (reactions_ || drivers_) s.lambda = check ? lambda : step_multipliers(s, q1, c.dt, c.t_mid);
+  // The block path keeps them in any case: λ̂ of the next step's first Newton matrix
+  // (ReducedNewtonMatrix::evaluate).
+  if (reactions_ || drivers_ || (check && blocks_ && !fast))
+    s.lambda = check ? lambda : step_multipliers(s, q1, c.dt, c.t_mid);
   if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
     const VecX dd = sys_.prescribed(s.t + c.dt) - sys_.prescribed(s.t);
     for (int p = 0; p < sys_.m_selected(); ++p)

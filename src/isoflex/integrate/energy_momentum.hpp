@@ -93,7 +93,10 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   };
   // The residual and the correction are kept workspaces (valid until the next call): the block
   // path's Newton iteration allocates nothing.
-  const VecX& evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered) const;
+  // start: x is a Newton start (λ̂ = State::lambda on the block path,
+  // ReducedNewtonMatrix::evaluate).
+  const VecX& evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered,
+                       bool start = false) const;
   VecX evaluate_assembled(const StepContext& c, const VecX& x, NewtonMatrix* J,
                           bool bordered) const;  // every path but the blocks
   // Numerical dissipation (model::Solver::numerical_dissipation, docs/theory/schemes.md §10): on

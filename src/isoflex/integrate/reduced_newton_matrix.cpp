@@ -457,8 +457,8 @@ bool ReducedNewtonMatrix::multipliers(const VecX& qn, const VecX& vn, const VecX
 }
 
 const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt,
-                                          double t_mid, solve::NormalEquations& normal,
-                                          SpMat* Jout) const {
+                                          double t_mid, solve::NormalEquations& normal, SpMat* Jout,
+                                          const VecX* lambda_start) const {
   // Every vector is a kept workspace: an iteration allocates nothing.
   const int N = sys_.node_count();
   VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
@@ -473,9 +473,11 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   sys_.reduce(qm, r0, R_, y_);  // 𝖯ᵀ r₀ by the leaves-to-root sweep
   if (!want) return R_;
 
-  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) and ½Δt Σ λ̂ᵢ Hᵢ.
+  // λ̂ from r₀ ≈ −Δt 𝖦ᵀλ (least squares; energy_momentum.hpp) or the caller's, and ½Δt Σ λ̂ᵢ Hᵢ.
   VecX& lambda = lambda_;
-  if (!midpoint_jacobian(qm)) {
+  if (lambda_start && lambda_start->size() == static_cast<Eigen::Index>(selected_all_.size())) {
+    lambda = *lambda_start;
+  } else if (!midpoint_jacobian(qm)) {
     const SpMat Gm = sys_.jacobian(qm);
     lambda = normal.solve(Gm, -(Gm * r0) / dt);
   } else {
@@ -578,12 +580,14 @@ const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refac
     factorized_ = J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k();
     if (factorized_) {
       const double* v = J.valuePtr();
+      // Zero-padded blocks: the padding is written once, the corners every time.
+      values_.resize(jblocks_.size(), BlockLU::Block6::Zero());
       for (std::size_t k = 0; k < jblocks_.size(); ++k) {
-        Small& B = values_[k];
-        B.resize(groups_[jblocks_[k].g].width, groups_[jblocks_[k].h].width);
+        BlockLU::Block6& B = values_[k];
+        const int rows = groups_[jblocks_[k].g].width, cols = groups_[jblocks_[k].h].width;
         const int* slot = &slots_[jblocks_[k].first_slot];
-        for (int c = 0; c < B.cols(); ++c)
-          for (int r = 0; r < B.rows(); ++r) B(r, c) = v[slot[c] + r];
+        for (int c = 0; c < cols; ++c)
+          for (int r = 0; r < rows; ++r) B(r, c) = v[slot[c] + r];
       }
       factorized_ = block_lu_.factorize(values_);
       ++factorizations_;
@@ -594,7 +598,7 @@ const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refac
     if (x.allFinite()) {
       if (accepted) return x;
       // No pivoting across blocks: accept the factors by the residual.
-      check_.noalias() = J * x;
+      block_lu_.multiply(values_, x, check_);
       if ((check_ - b).lpNorm<Eigen::Infinity>() <= 1e-10 * b.lpNorm<Eigen::Infinity>()) return x;
     }
     factorized_ = false;

@@ -37,11 +37,15 @@ class ReducedNewtonMatrix {
 
   // R(u) for the step from (qₙ, vₙ); J (if not null) receives the Newton matrix (k × k, compressed,
   // always the same pattern). λ̂ of K̂ by least squares from r₀ ≈ −Δt 𝖦ᵀλ; `normal` only if 𝖦
-  // has a nonzero outside its fixed pattern (then 𝖦 = System::jacobian).
+  // has a nonzero outside its fixed pattern (then 𝖦 = System::jacobian). `lambda_start`: λ̂ to
+  // take instead (if it has the selected rows' size): at a Newton start the multipliers of the
+  // step that ended at qₙ estimate λ better than the start's residual does (slider-crank:
+  // 3.877 → 3.841 iterations per step, bench/slider_crank.md).
   // The reference is to a kept workspace, valid until the next call: an iteration (evaluate and
   // solve) allocates nothing once the first has sized the workspaces.
   const VecX& evaluate(const VecX& qn, const VecX& vn, const VecX& u, double dt, double t_mid,
-                       solve::NormalEquations& normal, system::SpMat* J) const;
+                       solve::NormalEquations& normal, system::SpMat* J,
+                       const VecX* lambda_start = nullptr) const;
   // The multipliers of the selected rows for the step qₙ → q1 (State::lambda; what
   // EnergyMomentumIntegrator::step_multipliers computes through System): the least-squares
   // solution of 𝖦ᵀλ = −r, r = (1/Δt) M (vₙ₊₁ − vₙ) + f (DNSM-III (9)), with 𝖦 = G(q_{n+½}) in its
@@ -63,7 +67,7 @@ class ReducedNewtonMatrix {
   using Block = Mat<12, 12>;
   // 6 × r blocks (r ≤ 6) without heap allocation.
   using Twist = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
-  using Small = BlockLU::Small;
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;  // g × h block of J
   struct Group {
     int offset = 0, width = 0;
     int rotvec = -1;  // θ inside the group (T(θ) block of D), −1 = none
@@ -152,7 +156,7 @@ class ReducedNewtonMatrix {
   mutable double force_dt_ = 0.0, force_t_ = 0.0;
   mutable std::vector<Small> J_;
   mutable BlockLU block_lu_;
-  mutable std::vector<Small> values_;
+  mutable std::vector<BlockLU::Block6> values_;  // J's blocks as BlockLU takes them
   mutable solve::FixedPatternLU lu_;
   mutable int fallbacks_ = 0;
   mutable bool factorized_ = false;  // block_lu_ holds the factors of the last J

@@ -43,7 +43,8 @@ struct State {
   int last_start = 0;
   // DAE schemes (empty until their first step): q̈ₙ, the auxiliary acceleration aₙ of
   // generalized-α (IGA-thesis (2.23)), the multipliers λₙ of the selected rows, and qₙ₋₁, vₙ₋₁
-  // for BDF-2.
+  // for BDF-2. Energy–momentum: λ of the last step where it is recovered (reactions, drivers,
+  // the reduced block path's next Newton start).
   VecX a, aux, lambda, q_prev, v_prev;
   // The work done against the viscous forces since t = 0 (System::viscous_force), ≥ 0: the
   // energy–momentum schemes add f_v(q_{n+½}, Δq/Δt)·Δq, exactly what their step removes from

@@ -140,17 +140,29 @@ FrameJoint::Rows FrameJoint::fixed_jacobian(const Q& qa, const Q& qb) const {
 
 void FrameJoint::add_constraint_hessian(CRef lambda, Mat<24, 24>& H) const {
   assert(lambda.size() == m_);
-  const L lr = relative_point_map(g_.X_A, g_.X_B);
+  // Each L is c ⊗ I₃ over the 8 points (φ, d₁, d₂, d₃ of both nodes), so LₐᵀL_b = (c_a c_bᵀ) ⊗ I₃:
+  // the Hessian is h ⊗ I₃ with h (8 × 8) summed from the coefficients (no 24 × 3 by 3 × 24
+  // products).
+  using C8 = Vec<8>;
+  const auto director = [](const Vec3& c, int node) {
+    C8 a = C8::Zero();
+    a.segment<3>(4 * node + 1) = c;
+    return a;
+  };
+  C8 lr;
+  lr << -1.0, -g_.X_A, 1.0, g_.X_B;  // relative_point_map
+  Mat<8, 8> h = Mat<8, 8>::Zero();
   int row = point_rows_ ? 3 : 0;
   for (auto [i, j] : frame_rows_) {
-    const L la = director_combination(g_.C_A.col(i), 0),
-            lb = director_combination(g_.C_B.col(j), 1);
-    H += lambda(row++) * (la.transpose() * lb + lb.transpose() * la);
+    const C8 la = director(g_.C_A.col(i), 0), lb = director(g_.C_B.col(j), 1);
+    h += lambda(row++) * (la * lb.transpose() + lb * la.transpose());
   }
   for (int i : plane_rows_) {
-    const L la = director_combination(g_.C_A.col(i), 0);
-    H += lambda(row++) * (la.transpose() * lr + lr.transpose() * la);
+    const C8 la = director(g_.C_A.col(i), 0);
+    h += lambda(row++) * (la * lr.transpose() + lr * la.transpose());
   }
+  for (int c = 0; c < 8; ++c)
+    for (int b = 0; b < 8; ++b) H.block<3, 3>(3 * b, 3 * c).diagonal().array() += h(b, c);
 }
 
 namespace {
