@@ -72,51 +72,44 @@ BlockLU::BlockLU(std::vector<int> offset, std::vector<int> width,
 namespace {
 using Mat6 = Mat<6, 6>;
 
-// D⁻¹ of the leading n × n part of D (the rest of inv zero) by an LU factorization with partial
-// pivoting (the pivots of Eigen's PartialPivLU) in fixed-size arrays; false if the ratio of the
-// smallest to the largest pivot is below 1e-12 (cheaper than rcond()).
+// D⁻¹ of the leading n × n part of D (the rest of inv zero: D is zero outside it) by Gauss–Jordan
+// elimination with partial pivoting, the pivots of an LU factorization with partial pivoting
+// (rows at and below k do not see the eliminations above the diagonal). Each step is a rank-one
+// update of the columns, 4 + 2 rows at a time: five times fewer instructions than LU and six
+// triangular solves for the columns of D⁻¹ (callgrind, slider-crank). False if a pivot is zero
+// or the ratio of the smallest to the largest is below 1e-12 (cheaper than rcond()).
 bool invert(const Mat6& D, int n, Mat6& inv) {
-  double a[6][6];
-  int perm[6];
-  for (int r = 0; r < n; ++r) {
-    perm[r] = r;
-    for (int c = 0; c < n; ++c) a[r][c] = D(r, c);
-  }
+  inv = D;
+  int row_of[6];
   double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int r = k + 1; r < n; ++r)
-      if (std::abs(a[r][k]) > std::abs(a[p][k])) p = r;
-    if (p != k) {
-      std::swap(a[p], a[k]);
-      std::swap(perm[p], perm[k]);
-    }
-    const double pivot = a[k][k];
+      if (std::abs(inv(r, k)) > std::abs(inv(p, k))) p = r;
+    row_of[k] = p;
+    if (p != k) inv.row(p).swap(inv.row(k));
+    const double pivot = inv(k, k);
     smallest = std::min(smallest, std::abs(pivot));
     largest = std::max(largest, std::abs(pivot));
     if (pivot == 0.0) return false;
-    for (int r = k + 1; r < n; ++r) {
-      const double l = a[r][k] / pivot;
-      a[r][k] = l;
-      for (int c = k + 1; c < n; ++c) a[r][c] -= l * a[k][c];
+    // Row k /= pivot, then every other row r −= c_r row k with c the old column k.
+    Vec<6> c = inv.col(k);
+    c(k) = 0.0;
+    const double scale = 1.0 / pivot;
+    for (int j = 0; j < n; ++j) {
+      if (j == k) continue;
+      const double a = inv(k, j) * scale;
+      inv(k, j) = a;
+      inv.col(j).head<4>().noalias() -= c.head<4>() * a;
+      inv.col(j).tail<2>().noalias() -= c.tail<2>() * a;
     }
+    inv.col(k) = -scale * c;
+    inv(k, k) = scale;
   }
   if (!(smallest > 1e-12 * largest)) return false;
-  inv.setZero();
-  for (int j = 0; j < n; ++j) {  // column j of D⁻¹: L U x = P e_j
-    double x[6];
-    for (int r = 0; r < n; ++r) {
-      double t = perm[r] == j ? 1.0 : 0.0;
-      for (int c = 0; c < r; ++c) t -= a[r][c] * x[c];
-      x[r] = t;
-    }
-    for (int r = n - 1; r >= 0; --r) {
-      double t = x[r];
-      for (int c = r + 1; c < n; ++c) t -= a[r][c] * x[c];
-      x[r] = t / a[r][r];
-    }
-    for (int r = 0; r < n; ++r) inv(r, j) = x[r];
-  }
+  // Row exchanges of D are column exchanges of D⁻¹, in reverse order.
+  for (int k = n - 1; k >= 0; --k)
+    if (row_of[k] != k) inv.col(row_of[k]).swap(inv.col(k));
   return true;
 }
 }  // namespace

@@ -116,7 +116,7 @@ ReducedNewtonMatrix::ReducedNewtonMatrix(const system::System& sys) : sys_(sys) 
     std::vector<std::pair<int, int>> blocks;
     for (const JBlock& b : jblocks_) blocks.push_back({b.g, b.h});
     block_lu_ = BlockLU(offset, width, blocks);
-    values_.resize(jblocks_.size());
+    values_.assign(jblocks_.size(), BlockLU::Block6::Zero());  // BlockLU's zero padding
   }
 
   // Constant parts: element pairs and the mass blocks.
@@ -580,8 +580,7 @@ const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refac
     factorized_ = J.nonZeros() == pattern_.nonZeros() && J.isCompressed() && J.rows() == sys_.k();
     if (factorized_) {
       const double* v = J.valuePtr();
-      // Zero-padded blocks: the padding is written once, the corners every time.
-      values_.resize(jblocks_.size(), BlockLU::Block6::Zero());
+      // The blocks' corners; their padding stays zero (constructor).
       for (std::size_t k = 0; k < jblocks_.size(); ++k) {
         BlockLU::Block6& B = values_[k];
         const int rows = groups_[jblocks_[k].g].width, cols = groups_[jblocks_[k].h].width;
