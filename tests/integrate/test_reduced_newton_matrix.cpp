@@ -257,3 +257,26 @@ TEST(ReducedNewtonMatrix, AGivenLambdaHatTakesThePlaceOfTheLeastSquares) {
   rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J2, &twice);
   EXPECT_GT(relative_difference(MatX(J0), MatX(J2)), 1e-8);
 }
+
+// The configuration of the last evaluation is kept for the caller (the converged step's
+// q_{n+1}), and only for its arguments.
+TEST(ReducedNewtonMatrix, KeepsTheConfigurationOfItsLastEvaluation) {
+  const auto m = slider_crank();
+  const auto sys = system::System::compile(m);
+  EnergyMomentumIntegrator a(sys, m.solver);
+  integrate::ReducedNewtonMatrix rn(sys);
+  auto s = a.initial_state();
+  for (int i = 0; i < 2; ++i) a.step(s);
+  solve::NormalEquations normal;
+  std::srand(4);
+  const VecX x = a.start_unknowns(s) + 1e-3 * VecX::Random(sys.k());
+  EXPECT_EQ(rn.configuration(s.q, x), nullptr);
+  rn.evaluate(s.q, s.v, x, m.solver.dt, s.t + 0.5 * m.solver.dt, normal, nullptr);
+  const VecX* q1 = rn.configuration(s.q, x);
+  ASSERT_NE(q1, nullptr);
+  EXPECT_EQ(*q1, sys.update(s.q, x));
+  VecX y = x;
+  y(0) += 1e-9;
+  EXPECT_EQ(rn.configuration(s.q, y), nullptr);
+  EXPECT_EQ(rn.configuration(s.v, x), nullptr);
+}

@@ -104,13 +104,10 @@ BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
   }
   if (!p_.isIdentity(0.0))
     for (Block8& h : h_) h = p_ * h * p_.transpose();
-  for (int k = 0; k < 6; ++k) {
-    first_[k] = static_cast<int>(entries_.size());
+  for (int k = 0; k < 6; ++k)
     for (int c = 0; c < 8; ++c)
       for (int b = 0; b < 8; ++b)
-        if (h_[k](b, c) != 0.0) entries_.push_back({b, c, h_[k](b, c)});
-  }
-  first_[6] = static_cast<int>(entries_.size());
+        if (h_[k](b, c) != 0.0) entries_.push_back({3 * b, kCoords * k + 3 * c, h_[k](b, c)});
 
   Q q0;
   q0 << q0_a, q0_b;
@@ -138,11 +135,15 @@ Mat<BeamElement::kCoords, 6> BeamElement::strain_jacobian_transpose(const Q& q) 
   // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_, two
   // per column without corner triads) instead of the dense 3 × 8 by 8 × 8 product.
   Mat<kCoords, 6> Bt = Mat<kCoords, 6>::Zero();
-  for (int k = 0; k < 6; ++k)
-    for (int n = first_[k]; n < first_[k + 1]; ++n) {
-      const Entry& e = entries_[static_cast<std::size_t>(n)];
-      Bt.col(k).segment<3>(3 * e.c) += e.h * q.segment<3>(3 * e.b);
-    }
+  double* out = Bt.data();
+  const double* in = q.data();
+  for (const Entry& e : entries_) {
+    double* o = out + e.out;
+    const double* i = in + e.in;
+    o[0] += e.h * i[0];
+    o[1] += e.h * i[1];
+    o[2] += e.h * i[2];
+  }
   return Bt;
 }
 

@@ -116,9 +116,10 @@ class BeamElement final : public Element {
 
  private:
   using Block8 = Mat<8, 8>;
-  // A nonzero h_k(b, c) of a strain form.
+  // A nonzero h_k(b, c) of a strain form: Bᵀ(3c + i, k) += h q(3b + i), i = 0, 1, 2, with
+  // in = 3b and out = 24k + 3c the offsets in q and in Bᵀ's storage.
   struct Entry {
-    int b, c;
+    int in, out;
     double h;
   };
 
@@ -138,10 +139,9 @@ class BeamElement final : public Element {
   Strain6 C_;                // diag(GA₁, GA₂, EA, EI₁, EI₂, GJ), DNSM-III (69)
   Strain6 e0_;               // Γ⁰, K⁰
   Block8 p_;                 // the element's blocks from the nodes' (identity but at a corner)
-  // The nonzeros of h_k, column by column: entries_[first_[k] … first_[k + 1]). h_k couples
-  // four of the eight blocks (eight to sixteen of its 64 entries are nonzero), so B(q) and E(q)
-  // from them cost a fifth of the dense 3 × 8 by 8 × 8 products.
-  std::array<int, 7> first_{};
+  // The nonzeros of h_0 … h_5, in order. h_k couples four of the eight blocks (eight to sixteen
+  // of its 64 entries are nonzero), so B(q) from them costs a fifth of the dense 3 × 8 by 8 × 8
+  // products.
   std::vector<Entry> entries_;
 };
 

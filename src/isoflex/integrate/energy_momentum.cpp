@@ -158,6 +158,8 @@ VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x
     case F::nullspace:
       return x;
     case F::reparametrized:
+      if (blocks_)
+        if (const VecX* q1 = blocks_->configuration(c.s->q, x)) return *q1;
       return sys_.update(c.s->q, x);
   }
   return {};

@@ -463,6 +463,8 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   const int N = sys_.node_count();
   VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
   sys_.update(qn, u, q1, steps_);  // (14), (37)
+  q1_qn_ = qn;
+  q1_u_ = u;
   qm = 0.5 * (qn + q1);
   v1 = (2.0 / dt) * (q1 - qn) - vn;
   const bool want = Jout != nullptr;
@@ -569,6 +571,12 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
       for (int r = 0; r < B.rows(); ++r) values[slot[c] + r] = B(r, c);
   }
   return R_;
+}
+
+const VecX* ReducedNewtonMatrix::configuration(const VecX& qn, const VecX& u) const {
+  const bool same =
+      qn.size() == q1_qn_.size() && u.size() == q1_u_.size() && qn == q1_qn_ && u == q1_u_;
+  return same ? &q1_ : nullptr;
 }
 
 const VecX& ReducedNewtonMatrix::solve(const SpMat& J, const VecX& b, bool refactorize) const {

@@ -54,6 +54,9 @@ class ReducedNewtonMatrix {
   // std::runtime_error where 𝖦 is rank deficient.
   bool multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt, double t_mid,
                    solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
+  // q_{n+1} = F_{qₙ}(u) of the last evaluate() if it was at (qn, u) (a converged iterate: its
+  // residual was the last one), else null.
+  const VecX* configuration(const VecX& qn, const VecX& u) const;
   // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
   // refactorize = false: J is the matrix of the last call, solved with its kept factorization.
@@ -152,6 +155,7 @@ class ReducedNewtonMatrix {
   mutable VecX permuted_, solved_;
   mutable std::vector<std::vector<Twist>> Em_, E1_;
   mutable VecX force_qn_, force_q1_;  // the arguments f_ was computed for
+  mutable VecX q1_qn_, q1_u_;         // the arguments q1_ was computed for
   mutable std::vector<elements::BeamElement::Strain6> beam_strains_n_;  // raw strains at force_qn_
   mutable double force_dt_ = 0.0, force_t_ = 0.0;
   mutable std::vector<Small> J_;
