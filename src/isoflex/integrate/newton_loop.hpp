@@ -35,13 +35,12 @@ struct NewtonOptions {
   // (‖R_k‖ ≈ ‖R_{k−1}‖ (‖R_{k−1}‖/‖R_{k−2}‖)² below the tolerance); if the prediction fails it is
   // evaluated at the same iterate, so the iterates do not change.
   bool predict_last_matrix = false;
-  // Chord corrections near the root: once a correction has reduced ‖R‖ by this factor or more
-  // (0: never), the next iterations reuse the last Newton matrix, and the caller its
-  // factorization, for as long as each keeps reducing ‖R‖ by the factor. Newton's error
-  // eₖ₊₁ ≈ C eₖ² becomes eₖ₊₁ ≈ C ‖xₖ − x_J‖ eₖ with x_J the iterate of the matrix, and
-  // C ‖xₖ − x_J‖ is about the last reduction: near the root a chord step gains as many digits as a
-  // Newton step and costs a residual and a solve with a kept factorization
-  // (docs/theory/schemes.md §6).
+  // Chord corrections near the root: the next correction reuses the last Newton matrix, and the
+  // caller its factorization, when its predicted contraction is this factor or less (0: never).
+  // Newton's error eₖ₊₁ ≈ C eₖ² becomes eₖ₊₁ ≈ C ‖xₖ − x_J‖ eₖ with x_J the iterate of the
+  // matrix: after a Newton correction with contraction θ = C ‖Δx‖ that is about θ², after a chord
+  // correction about its own θ. Near the root a chord step gains as many digits as a Newton step
+  // and costs a residual and a solve with a kept factorization (docs/theory/schemes.md §6).
   double chord_contraction = 0.0;
   // Corrections applied before the residual test may end the iteration (a bordered step whose
   // extra equation the start does not satisfy: displacement control).
@@ -112,10 +111,15 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
       R.resize(0);
     }
   };
+  bool last_fresh = false;  // the last correction was made with a matrix of its own iterate
   for (int it = 0;; ++it) {
     out.iterations = it;
     bool with_matrix = it < opt.max_iterations;
-    const bool chord = with_matrix && it >= 2 && r_prev <= opt.chord_contraction * r_prev2;
+    // The chord's contraction predicted from the last correction's θ = r_prev/r_prev2
+    // (chord_contraction).
+    const double theta = r_prev2 > 0.0 ? r_prev / r_prev2 : 1.0;
+    const bool chord =
+        with_matrix && it >= 2 && (last_fresh ? theta * theta : theta) <= opt.chord_contraction;
     if (chord)
       with_matrix = false;
     else if (with_matrix && opt.predict_last_matrix && it >= 2 && r_prev2 > 0.0)
@@ -145,6 +149,7 @@ NewtonOutcome newton_loop(const NewtonOptions& opt, Residual&& residual, Scale&&
     }
     r_prev2 = r_prev;
     r_prev = out.residual;
+    last_fresh = with_matrix;
     bool small = false;
     try {
       small = correct(R);
