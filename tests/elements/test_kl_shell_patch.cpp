@@ -569,3 +569,57 @@ TEST(KLShellPatch, ThreadsGiveTheSameResultBitForBit) {
   patch.set_threads(0);
   EXPECT_EQ(patch.threads(), 1);
 }
+
+// The parts of an MPI run (set_partition, docs/theory/solvers.md §6): each part sums the elements
+// of its block of element rows, and the parts' r and K add up to the whole patch's (to round-off:
+// the sums are in another order); a part's energy is the whole patch's. 5 × 7 bicubic elements
+// in 1, 2, 3 and 7 parts (7: one row each), with threads, nonlinear and linear (no cached tangent
+// in a part).
+TEST(KLShellPatch, PartsAddUpToTheWholePatch) {
+  std::mt19937 g(22);
+  NurbsSurface s = geometry::k_refine(geometry::cylinder_sector(1.0, 1.5, kPi / 3), 1, 2, 4, 6);
+  for (auto& p : s.points) p += random_vector(g, 3, 1e-3);
+  const KLShellPatch whole(s, section(1.0e3, 0.3, 0.05));
+  const VecX x = whole.reference_positions() + random_vector(g, whole.dofs(), 1e-2);
+  EXPECT_EQ(whole.parts(), 1);
+  EXPECT_EQ(whole.partition_rows().begin, 0);
+  EXPECT_EQ(whole.partition_rows().end, 7);
+  for (const auto kin : {KLKinematics::nonlinear, KLKinematics::linear}) {
+    elements::SpMat K;
+    const VecX r = whole.internal_force(x, kin, &K);
+    for (int parts : {2, 3, 7}) {
+      VecX r_sum = VecX::Zero(r.size());
+      VecX K_sum = VecX::Zero(K.nonZeros());
+      int rows = 0;
+      for (int part = 0; part < parts; ++part) {
+        KLShellPatch p = whole;
+        p.set_threads(part % 2 + 1);
+        p.set_partition(part, parts);
+        EXPECT_EQ(p.partition_rows().begin, rows);
+        rows = p.partition_rows().end;
+        elements::SpMat Kp;
+        const VecX rp = p.internal_force(x, kin, &Kp);
+        ASSERT_EQ(Kp.nonZeros(), K.nonZeros());
+        // The linear tangent is computed, not copied, on a second call too.
+        const VecX rp2 = p.internal_force(x, kin, &Kp);
+        EXPECT_EQ(rp2, rp);
+        r_sum += rp;
+        K_sum += Eigen::Map<const VecX>(Kp.valuePtr(), Kp.nonZeros());
+        if (parts == 7) {
+          EXPECT_GT(rp.norm(), 0.0) << part;  // every row has elements
+        }
+        EXPECT_EQ(p.energy(x, kin), whole.energy(x, kin));
+      }
+      EXPECT_EQ(rows, 7);
+      EXPECT_LE((r_sum - r).lpNorm<Eigen::Infinity>(), 1e-13 * r.lpNorm<Eigen::Infinity>())
+          << parts;
+      const Eigen::Map<const VecX> Kv(K.valuePtr(), K.nonZeros());
+      EXPECT_LE((K_sum - Kv).lpNorm<Eigen::Infinity>(), 1e-13 * Kv.lpNorm<Eigen::Infinity>())
+          << parts;
+    }
+  }
+  KLShellPatch p = whole;
+  EXPECT_THROW(p.set_partition(2, 2), std::invalid_argument);
+  EXPECT_THROW(p.set_partition(-1, 2), std::invalid_argument);
+  EXPECT_THROW(p.set_partition(0, 0), std::invalid_argument);
+}

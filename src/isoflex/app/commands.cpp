@@ -30,6 +30,7 @@
 #include "isoflex/loads/line_actuator.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/memory.hpp"
+#include "isoflex/solve/process_group.hpp"
 #include "isoflex/system/kl_interface_report.hpp"
 #include "isoflex/system/memory_estimate.hpp"
 #include "isoflex/system/system.hpp"
@@ -591,6 +592,19 @@ int check_model(model::Model m, std::FILE* out, std::FILE* err, const CheckOptio
 }
 
 int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
+  // Under mpirun -n N (N > 1) every rank reads and compiles the model and takes its part of the
+  // patches' elements (docs/theory/solvers.md §6); rank 0 alone prints and writes.
+  const solve::ProcessGroup* group = nullptr;
+  try {
+    group = &solve::processes();
+  } catch (const std::runtime_error& e) {
+    fmt::print(err, "error: {}\n", e.what());
+    return kExitBadInput;
+  }
+  const bool writes = group->rank() == 0;
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> silent(
+      writes ? nullptr : std::fopen("/dev/null", "w"), &std::fclose);
+  if (silent) out = err = silent.get();
   const std::filesystem::path outdir =
       o.outdir.empty() ? std::filesystem::path("out") /
                              std::filesystem::path(o.model_file).parent_path().filename()
@@ -605,9 +619,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.status = "failed";
     sum.message = out_of_memory;
     std::error_code ec;
-    std::filesystem::create_directories(outdir, ec);
+    if (writes) std::filesystem::create_directories(outdir, ec);
     try {
-      if (!ec) io::write_summary_json(outdir / "summary.json", sum);
+      if (!ec && writes) io::write_summary_json(outdir / "summary.json", sum);
     } catch (const io::OutputError& e) {
       fmt::print(err, "error: {}\n", e.what());
     }
@@ -616,13 +630,19 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (!l) return kExitBadInput;
   model::Model& m = l->model;
   const bool statics = m.solver.analysis == model::Analysis::statics;
+  if (group->size() > 1) {
+    if (const std::string why = integrate::why_not_distributed(*l->sys, m.solver); !why.empty()) {
+      fmt::print(err, "error: {} MPI ranks: {}\n", group->size(), why);
+      return kExitBadInput;
+    }
+  }
   std::optional<io::SavedState> restart;
   if (!o.restart_file.empty()) {
     restart = restart_state(o, m, *l->sys, outdir, err, out);
     if (!restart) return kExitBadInput;
   }
   std::error_code ec;
-  std::filesystem::create_directories(outdir, ec);
+  if (writes) std::filesystem::create_directories(outdir, ec);
   if (ec) {
     fmt::print(err, "error: {}: cannot create output directory: {}\n", outdir.string(),
                ec.message());
@@ -630,11 +650,15 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   }
 
   auto& sys = *l->sys;
-  sys.set_threads(o.threads > 0
-                      ? o.threads
-                      : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  // By default all cores, shared among the ranks of an MPI run on one machine (more threads
+  // than cores slow the element loops down).
+  sys.set_threads(
+      o.threads > 0
+          ? o.threads
+          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / group->size()));
   // A static analysis evaluates a linear patch's tangent once per load step: no kept copy.
   if (statics) sys.keep_linear_tangent(false);
+  if (group->size() > 1) sys.partition_kl_patches(group->rank(), group->size());
   // The time stepping of a dynamic run (its set-up, e.g. the tree solver, is not needed in
   // statics); made inside the run's try block, so that a numerical failure there ends the run
   // like a failing step.
@@ -663,6 +687,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
   // Only the Kirchhoff–Love patches assemble on threads (bodies, beams and director shells on
   // one): a --threads that cannot be used is said, not silently ignored.
+  if (group->size() > 1) sum.mpi_ranks = group->size();
   if (o.threads > sum.threads)
     sum.threads_note = sys.kl_patches().empty()
                            ? fmt::format(
@@ -734,7 +759,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                    std::abs(snap.total_energy + snap.dissipated_energy - snap.external_work -
                             snap.driver_work - sum.energy_initial) /
                        std::max(std::abs(sum.energy_initial), 1e-300));
-    outputs->snapshot(snap, &state);
+    if (outputs) outputs->snapshot(snap, &state);
     throw_if_interrupted();
   };
   const auto record = [&](const integrate::StepStats& st) {
@@ -770,8 +795,10 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       results_file.restart_file = o.restart_file;
       results_file.restart_from_step = o.restart_step;
     }
-    outputs.emplace(outdir, m, err, &results_file);
-    outputs->snapshot(snap, &state);
+    if (writes) {
+      outputs.emplace(outdir, m, err, &results_file);
+      outputs->snapshot(snap, &state);
+    }
     if (statics) {
       doing = "while setting up the static solver";
       integrate::StaticEquilibrium equilibrium(sys, m.solver);
@@ -780,6 +807,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
       linear = m.solver.linear ? "linear" : "nonlinear";
       const bool petsc = std::string_view(equilibrium.linear_solver()) != "direct";
       if (petsc) sum.linear_solver = equilibrium.linear_solver();
+      if (group->size() > 1 && m.solver.linear_solver == model::LinearSolver::automatic)
+        fmt::print(out, "note: {} MPI ranks: solver.linear_solver auto solves with {}\n",
+                   group->size(), equilibrium.linear_solver());
       doing =
           fmt::format("in load step 1 (assembling and factorizing {} unknowns)", sum.n_unknowns);
       const integrate::StaticResult result =
@@ -885,7 +915,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (model::has_drivers(m)) sum.driver_work = snap.driver_work;
   sum.probes = snap.probes;
   try {
-    io::write_summary_json(outdir / "summary.json", sum);
+    if (writes) io::write_summary_json(outdir / "summary.json", sum);
   } catch (const io::OutputError& e) {
     output_errors.push_back(e.what());
     if (code == 0) code = kExitOutputError;

@@ -102,6 +102,7 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
     int nu = 0;
     while (nu < static_cast<int>(m.elems.size()) && m.elems[nu].span_v == m.elems[0].span_v) ++nu;
     m.loop = ColouredElementLoop(nu, static_cast<int>(m.elems.size()) / nu, p, q);
+    m.elements_u = nu;
   }
   m.n_fun = (p + 1) * (q + 1);
   m.n_qp = m.rule_u.size() * m.rule_v.size();
@@ -230,6 +231,19 @@ std::size_t KLShellPatch::reference_bytes_per_point() const {
 VecX KLShellPatch::reference_positions() const {
   return impl_->reference_positions();
 }
+void KLShellPatch::set_partition(int part, int parts) {
+  if (!(parts >= 1 && part >= 0 && part < parts))
+    throw std::invalid_argument("KLShellPatch::set_partition: part " + std::to_string(part) +
+                                " of " + std::to_string(parts));
+  part_ = part;
+  parts_ = parts;
+}
+
+KLShellPatch::RowRange KLShellPatch::partition_rows() const {
+  const long long rows = elements() / impl_->elements_u;
+  return {static_cast<int>(rows * part_ / parts_), static_cast<int>(rows * (part_ + 1) / parts_)};
+}
+
 int KLShellPatch::threads_used() const {
   return impl_->workers(threads_);
 }
@@ -321,7 +335,10 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
   VecX r = VecX::Zero(x.size());
   const Eigen::Index nnz = m.pattern.nonZeros();
   bool tangent = values != nullptr;  // false: the values are the cached linear tangent
-  if (values && linear) {
+  // The cached tangent is the whole patch's: a part of it computes its own.
+  const bool cache = linear && parts_ == 1;
+  const RowRange own = partition_rows();
+  if (values && cache) {
     const std::lock_guard<std::mutex> lock(m.linear_mutex);
     if (!m.linear_values.empty()) {
       std::copy(m.linear_values.begin(), m.linear_values.end(), values);
@@ -344,6 +361,8 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
   // Elements of one colour share no control point (coloured_element_loop.hpp): their scatters
   // into r and K do not overlap.
   m.loop.run(workers, [&](int e, int worker) {
+    const int row = e / m.elements_u;
+    if (row < own.begin || row >= own.end) return;  // another part's element (set_partition)
     ElementWork& w = work[static_cast<std::size_t>(worker)];
     kl::LocalPoints& xl = w.xl;
     geometry::ElementBasis& eb = w.eb;
@@ -420,7 +439,7 @@ VecX KLShellPatch::internal_force_into(const VecX& x, KLKinematics kin, double* 
       }
     }
   });
-  if (tangent && linear && keep_linear_tangent_) {
+  if (tangent && cache && keep_linear_tangent_) {
     const std::lock_guard<std::mutex> lock(m.linear_mutex);
     m.linear_values.assign(values, values + nnz);
   }

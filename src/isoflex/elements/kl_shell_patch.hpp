@@ -127,6 +127,18 @@ class KLShellPatch {
   // per load step and does without the copy: nnz doubles, 1.2 GB at 10⁶ unknowns
   // (bench/large_shells.md). The values are the same either way.
   void set_keep_linear_tangent(bool keep) { keep_linear_tangent_ = keep; }
+  // The part of the patch whose elements internal_force and internal_force_into sum, for a run on
+  // `parts` MPI ranks (docs/theory/solvers.md §6): the elements of the rows (knot spans along v)
+  // rows·part/parts … rows·(part + 1)/parts − 1, contiguous blocks of element rows; r and K are
+  // then that part's, zero elsewhere, and their sum over the parts is the whole patch's. (0, 1),
+  // the default: the whole patch. The energy, the discrete gradient, the viscous forces and the
+  // stresses are always the whole patch's. Throws std::invalid_argument unless 0 ≤ part < parts.
+  void set_partition(int part, int parts);
+  struct RowRange {
+    int begin = 0, end = 0;  // element rows [begin, end)
+  };
+  RowRange partition_rows() const;
+  int parts() const { return parts_; }
   // The threads internal_force actually runs on: threads(), at most one per 2 048 points.
   int threads_used() const;
   // The fixed sparsity pattern of K (3ncp × 3ncp, every pair of control points sharing an
@@ -146,6 +158,7 @@ class KLShellPatch {
   std::shared_ptr<const Impl> impl_;
   int threads_ = 1;
   bool keep_linear_tangent_ = true;
+  int part_ = 0, parts_ = 1;  // set_partition
 };
 
 }  // namespace isoflex::elements

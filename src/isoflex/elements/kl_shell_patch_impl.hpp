@@ -19,6 +19,7 @@ struct KLShellPatch::Impl {
   geometry::GaussRule rule_u, rule_v;
   std::vector<geometry::SurfaceElement> elems;
   ColouredElementLoop loop;  // the elements in blocks of p × q, for the threaded assembly
+  int elements_u = 1;        // elements along u: element e lies in the row e / elements_u
   int n_fun = 0;             // (p+1)(q+1), local functions per element
   int n_qp = 0;              // quadrature points per element
   // Pre-evaluated reference geometry (§6.2.2), point g of element e at e·n_qp + g.

@@ -1,5 +1,7 @@
 #include "isoflex/integrate/static_equilibrium.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,6 +10,7 @@
 #include <utility>
 
 #include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/solve/process_group.hpp"
 #include "isoflex/system/kl_multigrid.hpp"
 #include "isoflex/system/row_selection.hpp"
 
@@ -205,6 +208,31 @@ void evaluate(const system::System& sys, RowSelection& selection, const VecX& x,
 
 }  // namespace
 
+std::string why_not_distributed(const system::System& sys, const model::Solver& settings) {
+  if (settings.analysis != model::Analysis::statics)
+    return "dynamic analyses run on one process only (use --static, or run without mpirun)";
+  if (settings.linear_solver == model::LinearSolver::direct)
+    return "solver.linear_solver direct (CHOLMOD) runs on one process only: choose cg_multigrid, "
+           "cg_gamg, cg_hypre or mumps (or auto)";
+  if (sys.kl_patches().empty() || sys.elements().size() != sys.kl_patches().size() ||
+      sys.node_count(NodeKind::point) != sys.node_count())
+    return "only models of Kirchhoff-Love patches alone are distributed (this one has other "
+           "bodies, elements or bending strips)";
+  if (sys.m_selected() > 0)
+    return fmt::format(
+        "the model has {} constraint rows (patch couplings or joints): their saddle point is "
+        "solved on one process only",
+        sys.m_selected());
+  const system::LinearConstraints& c = sys.linear_constraints();
+  if (c.multipliers() > 0 || !c.tied.empty())
+    return "the model's supports have multiplier rows or tied coordinates (weak or rotated "
+           "supports): their saddle point is solved on one process only";
+  if (has_follower_loads(sys))
+    return "follower loads (pressure that turns with the shell) give an unsymmetric matrix, "
+           "solved on one process only";
+  return {};
+}
+
 StaticProblem static_problem(const system::System& sys, bool linear) {
   const int n = sys.n(), m = sys.m_selected();
   const bool follower = has_follower_loads(sys);
@@ -229,6 +257,27 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
     S->accept(x.head(S->n()));
     if (reselect) *selection = {t, dropped_rows(*S, x.head(S->n())), true};
   };
+  if (sys.kl_parts() > 1) {
+    model::Solver automatic;
+    automatic.analysis = model::Analysis::statics;
+    if (const std::string why = why_not_distributed(sys, automatic); !why.empty())
+      throw std::invalid_argument("a run on several MPI ranks: " + why);
+    const solve::ProcessGroup& group = solve::processes();
+    if (group.size() != sys.kl_parts())
+      throw std::invalid_argument(fmt::format("the patches are cut into {} parts for {} MPI ranks",
+                                              sys.kl_parts(), group.size()));
+    pb.distributed = true;
+    pb.evaluate = [S, selection, &group](const VecX& x, double t, bool with_tangent,
+                                         ResidualEvaluation& out) {
+      evaluate(*S, *selection, x, t, with_tangent, out);
+      // out.r is this rank's elements' internal force less the whole external force, which must
+      // be counted once: on rank 0. (A second evaluation of the loads on the other ranks; the
+      // System has no call for its internal force alone.)
+      if (group.rank() != 0) out.r += S->external_force(x.head(S->n()), t);
+      group.sum(out.r.data(), static_cast<long>(out.r.size()));
+    };
+    return pb;
+  }
   if (!linear || patches_only) {
     pb.evaluate = [S, selection](const VecX& x, double t, bool with_tangent,
                                  ResidualEvaluation& out) {

@@ -25,6 +25,7 @@
 // (elements::KLKinematics::linear) is already affine and is evaluated as it is. `formulation` and
 // the mass data are ignored.
 #include <memory>
+#include <string>
 
 #include "isoflex/integrate/newton_loop.hpp"  // NewtonFailure
 #include "isoflex/integrate/static_newton.hpp"
@@ -39,7 +40,18 @@ StaticSettings static_settings(const model::Solver& s);
 // displacement along the direction (System::probe_gradient).
 StaticSettings static_settings(const model::Solver& s, const system::System& sys);
 
-// R(x, t) and J of the header for a System, x = (q, λ_sel).
+// Why a System cannot be solved on several MPI ranks with these settings (empty: it can).
+// Distributed (docs/theory/solvers.md §6) are the models of Kirchhoff–Love patches alone
+// (point nodes, no other elements, no rows of System, no multiplier rows or tied coordinates in
+// its linear conditions: supports that eliminate coordinates), with dead loads and a PETSc
+// solver (not `direct`).
+std::string why_not_distributed(const system::System& sys, const model::Solver& settings);
+
+// R(x, t) and J of the header for a System, x = (q, λ_sel). A System whose patches are
+// partitioned (System::partition_kl_patches, an MPI run) gives a distributed problem: R is summed
+// over the ranks (each rank's elements; the loads counted once), J is each rank's own part
+// (StaticProblem::distributed). Throws std::invalid_argument if such a System cannot be
+// distributed (why_not_distributed with linear_solver auto).
 StaticProblem static_problem(const system::System& sys, bool linear);
 
 class StaticEquilibrium {

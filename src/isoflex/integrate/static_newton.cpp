@@ -242,6 +242,9 @@ struct StaticNewtonSolver::Impl {
       try {
         return multipliers ? krylov_saddle_point_solve(M, b) : krylov_solve(M, b);
       } catch (const std::runtime_error& e) {
+        // Each rank holds a part of M only: no direct solver can take over. The Newton
+        // iteration fails (and the load step is halved), the same on every rank.
+        if (problem.distributed) throw;
         // Not positive definite (past a limit point) or short of its tolerance: the direct
         // solvers below.
         if (stats) {
@@ -297,6 +300,10 @@ struct StaticNewtonSolver::Impl {
       case LinearSolverMethod::automatic:
         break;
     }
+    // Several ranks: a PETSc solver at any size (the direct ones are sequential).
+    if (problem.distributed)
+      return problem.transfer_operators ? solve::KrylovMethod::cg_multigrid
+                                        : solve::KrylovMethod::mumps;
     const int threshold =
         m > 0 ? kAutomaticSaddlePointMultigridUnknowns : kAutomaticMultigridUnknowns;
     if (nf < threshold || nf_configuration < nf || !problem.symmetric ||
@@ -760,6 +767,16 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
       throw std::invalid_argument(fmt::format(
           "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
     }
+  if (I.problem.distributed) {
+    const char* why = I.m > 0                                         ? "multiplier rows"
+                      : !I.dofs.slaves.empty()                        ? "tied coordinates"
+                      : !I.problem.symmetric                          ? "an unsymmetric matrix"
+                      : s.linear_solver == LinearSolverMethod::direct ? "the direct solver"
+                                                                      : nullptr;
+    if (why)
+      throw std::invalid_argument(
+          fmt::format("StaticNewtonSolver: a distributed problem (MPI) with {}", why));
+  }
   I.petsc = I.choose_petsc();
   const PathSettings& p = s.path;
   if (p.control == PathControl::load) return;

@@ -92,6 +92,13 @@ struct StaticProblem {
   // The interpolations of geometric multigrid on x (system/kl_multigrid.hpp): P_1 (rows: the
   // entries of x), P_2, …; asked for by the cg_multigrid solver only.
   std::function<std::vector<SpMat>()> transfer_operators;
+  // The problem of one MPI rank among several (docs/theory/solvers.md §6): r is the whole
+  // residual, the same on every rank, but K is this rank's part, and the Newton matrix is their
+  // sum, which only the PETSc solvers form (solve/krylov_backend.hpp). No direct solver, no
+  // multiplier rows or tied coordinates, symmetric only (the constructor throws otherwise); a
+  // failed PETSc solve fails the Newton iteration instead of falling back; automatic picks
+  // geometric multigrid (or MUMPS without transfer_operators) whatever the size.
+  bool distributed = false;
 };
 
 using system::DofMap;

@@ -102,6 +102,7 @@ std::string summary_json(const RunSummary& s) {
   real("wall_time_s", s.wall_time_s);
   integer("threads", s.threads);
   if (s.threads_note) str("threads_note", *s.threads_note);
+  if (s.mpi_ranks) integer("mpi_ranks", *s.mpi_ranks);
   real("max_constraint_violation", s.max_constraint_violation);
   real("energy_initial", s.energy_initial);
   real("energy_final", s.energy_final);

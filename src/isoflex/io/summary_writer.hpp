@@ -30,6 +30,8 @@ struct RunSummary {
   int threads = 1;  // threads the element assembly ran on (Kirchhoff–Love shells; 1 otherwise)
   // Why fewer threads ran than `--threads` asked for, when it asked for more than one.
   std::optional<std::string> threads_note;
+  // A run on several MPI ranks (mpirun -n N, N > 1; docs/theory/solvers.md §6): N.
+  std::optional<int> mpi_ranks;
   double max_constraint_violation = 0.0;
   double energy_initial = 0.0;
   double energy_final = 0.0;

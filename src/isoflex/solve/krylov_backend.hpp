@@ -6,6 +6,8 @@
 // libstdc++, so C++ objects and exceptions pass through.
 #include <string>
 
+#include "isoflex/solve/process_group.hpp"
+
 namespace isoflex::solve {
 
 // The PETSc solvers (docs/theory/solvers.md §3–4): conjugate gradients preconditioned by smoothed-
@@ -31,6 +33,11 @@ struct KrylovReport {
   std::string reason;     // PETSc's converged/diverged reason
 };
 
+// Under MPI (the module's world has N > 1 ranks: mpirun, process_group.hpp) every call is
+// collective and made with the same arguments on every rank but for A's values: the matrix solved
+// is the sum of the ranks' matrices (each holds its own elements' part, in the same pattern), b
+// is the same on every rank and x comes back whole on every rank. The matrix is PETSc's MPIAIJ
+// with contiguous blocks of rows (docs/theory/solvers.md §6); the saddle point is not distributed.
 class KrylovBackend {
  public:
   virtual ~KrylovBackend() = default;
@@ -61,6 +68,10 @@ class KrylovBackend {
 };
 
 }  // namespace isoflex::solve
+
+// MPI's world (PETSc and MPI started on the first call, as for isoflex_petsc_create); nullptr with
+// the reason in *error if they fail to start. The group lives as long as the process.
+extern "C" const isoflex::solve::ProcessGroup* isoflex_petsc_processes(std::string* error);
 
 // The module's entry point: a new backend of `method` (a KrylovMethod), PETSc initialized on the
 // first call; nullptr with the reason in *error if PETSc fails to start.

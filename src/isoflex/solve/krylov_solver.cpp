@@ -3,7 +3,7 @@
 #include <Eigen/QR>
 #include <stdexcept>
 
-#include "isoflex/platform/loadable_module.hpp"
+#include "isoflex/solve/petsc_module.hpp"
 
 namespace isoflex::solve {
 
@@ -11,12 +11,8 @@ namespace {
 
 using CreateFn = KrylovBackend* (*)(int, std::string*);
 
-// $ISOFLEX_PETSC_MODULE, next to the executable, the installed layout, the search path.
 CreateFn load_module(std::string* tried) {
-  static const platform::ModuleLocation where{"ISOFLEX_PETSC_MODULE", ISOFLEX_PETSC_MODULE_NAME,
-                                              ISOFLEX_PETSC_MODULE_FROM_BINDIR};
-  return reinterpret_cast<CreateFn>(
-      platform::load_module_symbol(where, "isoflex_petsc_create", tried));
+  return reinterpret_cast<CreateFn>(petsc_module_symbol("isoflex_petsc_create", tried));
 }
 
 }  // namespace

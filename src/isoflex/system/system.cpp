@@ -110,6 +110,14 @@ void System::keep_linear_tangent(bool keep) {
   configure_kl_patches([keep](elements::KLShellPatch& p) { p.set_keep_linear_tangent(keep); });
 }
 
+void System::partition_kl_patches(int part, int parts) {
+  configure_kl_patches([=](elements::KLShellPatch& p) { p.set_partition(part, parts); });
+}
+
+int System::kl_parts() const {
+  return kl_patches_.empty() ? 1 : kl_patches_.front().element->patch().parts();
+}
+
 void System::configure_kl_patches(const std::function<void(elements::KLShellPatch&)>& set) {
   for (KLPatchInstance& P : kl_patches_) {
     auto patch = std::make_shared<elements::KLShellPatch>(P.element->patch());  // shares the data

@@ -366,6 +366,12 @@ class System {
   // Whether the patches keep their constant linear tangent between evaluations
   // (elements::KLShellPatch::set_keep_linear_tangent; results do not depend on it).
   void keep_linear_tangent(bool keep);
+  // The elements of every Kirchhoff–Love patch that this process sums into static_force: part
+  // `part` of `parts` (elements::KLShellPatch::set_partition; an MPI run, docs/theory/solvers.md
+  // §6). The static problem then sums the processes' forces (integrate/static_equilibrium.hpp).
+  void partition_kl_patches(int part, int parts);
+  // The number of parts of partition_kl_patches (1: each process assembles every element).
+  int kl_parts() const;
   // The fixed pattern of discrete_force's K.
   const GlobalMatrix& stiffness_pattern() const { return stiffness_; }
   const std::vector<BeamInstance>& beams() const { return beams_; }

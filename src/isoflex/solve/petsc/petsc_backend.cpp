@@ -2,6 +2,8 @@
 // (solve/krylov_backend.hpp, docs/theory/solvers.md §3).
 #include <petscksp.h>
 
+#include <algorithm>
+#include <climits>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -47,9 +49,65 @@ void initialize() {
   std::atexit(finalize);
 }
 
+// MPI's world as isoflex sees it (process_group.hpp).
+class MpiWorld final : public ProcessGroup {
+ public:
+  MpiWorld() {
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size_);
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  // A reduction onto rank 0 and its broadcast rather than MPI_Allreduce: MPI does not promise
+  // that an all-reduce gives every rank the same rounding, and the ranks' Newton iterations must
+  // take the same decisions on the same residuals.
+  void sum(double* values, long count) const override {
+    while (count > 0) {
+      const int chunk = static_cast<int>(std::min<long>(count, INT_MAX));
+      if (MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : values, rank_ == 0 ? values : nullptr, chunk,
+                     MPI_DOUBLE, MPI_SUM, 0, PETSC_COMM_WORLD) != MPI_SUCCESS ||
+          MPI_Bcast(values, chunk, MPI_DOUBLE, 0, PETSC_COMM_WORLD) != MPI_SUCCESS)
+        throw std::runtime_error("MPI: the sum over the ranks failed");
+      values += chunk;
+      count -= chunk;
+    }
+  }
+
+ private:
+  int rank_ = 0, size_ = 1;
+};
+
+const MpiWorld& world() {
+  static const MpiWorld group;
+  return group;
+}
+
+// The rows [begin, end) of n that a rank owns in the distributed matrices and vectors: contiguous
+// blocks as even as can be, rank by rank. The interpolations' rows and columns follow the same
+// rule, so that P_1's rows are A's and P_l's columns are P_{l+1}'s rows.
+struct RowBlock {
+  PetscInt begin = 0, end = 0;
+  PetscInt size() const { return end - begin; }
+};
+RowBlock owned_rows(PetscInt n) {
+  const long long rank = world().rank(), size = world().size();
+  return {static_cast<PetscInt>(n * rank / size), static_cast<PetscInt>(n * (rank + 1) / size)};
+}
+
+// Rows [block.begin, block.end) of a CSR matrix with their own row starts (from 0).
+std::vector<PetscInt> local_row_starts(const CsrView& M, RowBlock block) {
+  std::vector<PetscInt> start(static_cast<std::size_t>(block.size()) + 1);
+  for (PetscInt i = 0; i <= block.size(); ++i)
+    start[static_cast<std::size_t>(i)] = M.row_start[block.begin + i] - M.row_start[block.begin];
+  return start;
+}
+
 class PetscKrylov final : public KrylovBackend {
  public:
-  explicit PetscKrylov(KrylovMethod method) : method_(method) {}
+  explicit PetscKrylov(KrylovMethod method)
+      : method_(method),
+        distributed_(world().size() > 1),
+        comm_(distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF) {}
   ~PetscKrylov() override {
     destroy_saddle_point();
     if (ksp_) KSPDestroy(&ksp_);
@@ -62,6 +120,13 @@ class PetscKrylov final : public KrylovBackend {
 
   void set_near_null_space(int n, int count, const double* columns) override {
     if (null_space_) check(MatNullSpaceDestroy(&null_space_), "MatNullSpaceDestroy");
+    if (distributed_) {
+      // Each rank's rows of the modes are taken when the matrix (its row blocks) is made.
+      modes_.assign(columns, columns + static_cast<std::ptrdiff_t>(count) * n);
+      modes_count_ = count;
+      if (A_) attach_distributed_null_space();
+      return;
+    }
     std::vector<Vec> vectors(static_cast<std::size_t>(count));
     for (int k = 0; k < count; ++k) {
       check(VecCreateSeq(PETSC_COMM_SELF, n, &vectors[static_cast<std::size_t>(k)]),
@@ -81,7 +146,17 @@ class PetscKrylov final : public KrylovBackend {
   void set_interpolations(int count, const CsrView* P) override {
     for (Mat& M : interpolations_) check(MatDestroy(&M), "MatDestroy");
     interpolations_.assign(static_cast<std::size_t>(count), nullptr);
-    for (int l = 0; l < count; ++l)
+    for (int l = 0; l < count && distributed_; ++l) {
+      // Each rank's block of rows, the columns split as the next level's rows.
+      const RowBlock rows = owned_rows(P[l].n), cols = owned_rows(P[l].cols);
+      const std::vector<PetscInt> start = local_row_starts(P[l], rows);
+      check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, rows.size(), cols.size(), P[l].n, P[l].cols,
+                                      start.data(), P[l].columns + P[l].row_start[rows.begin],
+                                      P[l].values + P[l].row_start[rows.begin],
+                                      &interpolations_[static_cast<std::size_t>(l)]),
+            "MatCreateMPIAIJWithArrays");
+    }
+    for (int l = 0; l < count && !distributed_; ++l)
       check(MatCreateSeqAIJWithArrays(
                 PETSC_COMM_SELF, P[l].n, P[l].cols, const_cast<PetscInt*>(P[l].row_start),
                 const_cast<PetscInt*>(P[l].columns), const_cast<PetscScalar*>(P[l].values),
@@ -93,6 +168,7 @@ class PetscKrylov final : public KrylovBackend {
 
   KrylovReport solve(const CsrView& A, bool new_pattern, const double* b, double* x, double rtol,
                      double atol, int max_iterations) override {
+    if (distributed_) return solve_distributed(A, new_pattern, b, x, rtol, atol, max_iterations);
     if (new_pattern || !A_ || A.row_start != row_start_ || A.columns != columns_ ||
         A.values != values_ || A.n != n_)
       make_matrix(A);
@@ -108,6 +184,10 @@ class PetscKrylov final : public KrylovBackend {
   KrylovReport solve_saddle_point(const CsrView& A, bool new_pattern, bool new_values,
                                   const CsrView& B, const double* schur, const double* b, double* x,
                                   double rtol, double atol, int max_iterations) override {
+    if (distributed_)
+      throw std::runtime_error(
+          "PETSc: the saddle point (a Newton matrix with multiplier rows) is not distributed: run "
+          "it on one process");
     const bool same = !new_pattern && A_ && saddle_ksp_ && A.row_start == row_start_ &&
                       A.columns == columns_ && A.values == values_ && A.n == n_ && B.n == rows_ &&
                       B.row_start[B.n] == rows_nonzeros_;
@@ -144,17 +224,120 @@ class PetscKrylov final : public KrylovBackend {
     return "solver";
   }
 
-  // x = A⁻¹ b by `ksp` from x = 0 (b and x: n entries, the caller's arrays).
-  static KrylovReport run(KSP ksp, int n, const double* b, double* x, double rtol, double atol,
-                          int max_iterations, bool count, const std::string& name) {
-    check(KSPSetTolerances(ksp, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
+  // solve() on MPI's world: the ranks' matrices summed into an MPIAIJ matrix (a new one when the
+  // pattern is new), b's and x's blocks of rows in place, x gathered onto every rank.
+  KrylovReport solve_distributed(const CsrView& A, bool new_pattern, const double* b, double* x,
+                                 double rtol, double atol, int max_iterations) {
+    if (new_pattern || !A_ || A.row_start != row_start_ || A.columns != columns_ || A.n != n_)
+      make_distributed_matrix(A);
+    sum_values(A);
+    if (!ksp_) make_ksp();
+    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    const RowBlock rows = owned_rows(A.n);
+    check(KSPSetTolerances(ksp_, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
     Vec vb = nullptr, vx = nullptr;
-    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, b, &vb), "VecCreateSeqWithArray");
-    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x, &vx), "VecCreateSeqWithArray");
-    const PetscErrorCode code = KSPSolve(ksp, vb, vx);
+    check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, rows.size(), A.n, b + rows.begin, &vb),
+          "VecCreateMPIWithArray");
+    check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, rows.size(), A.n, x + rows.begin, &vx),
+          "VecCreateMPIWithArray");
+    const PetscErrorCode code = KSPSolve(ksp_, vb, vx);
     VecDestroy(&vb);
     VecDestroy(&vx);
     check(code, "KSPSolve");
+    // Every rank's block of x to every rank (the Newton update is replicated).
+    const int size = world().size();
+    std::vector<int> counts(static_cast<std::size_t>(size)), starts(static_cast<std::size_t>(size));
+    for (int r = 0; r < size; ++r) {
+      const long long n = A.n;
+      starts[static_cast<std::size_t>(r)] = static_cast<int>(n * r / size);
+      counts[static_cast<std::size_t>(r)] =
+          static_cast<int>(n * (r + 1) / size) - starts[static_cast<std::size_t>(r)];
+    }
+    if (MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, x, counts.data(), starts.data(),
+                       MPI_DOUBLE, PETSC_COMM_WORLD) != MPI_SUCCESS)
+      throw std::runtime_error("MPI: gathering the solution failed");
+    return report(ksp_, method_ != KrylovMethod::mumps, method_name());
+  }
+
+  // The distributed matrix of A's pattern: each rank's block of rows, preallocated from the
+  // pattern (the same on every rank), values zero.
+  void make_distributed_matrix(const CsrView& A) {
+    if (A_) check(MatDestroy(&A_), "MatDestroy");
+    const RowBlock rows = owned_rows(A.n);
+    const std::vector<PetscInt> start = local_row_starts(A, rows);
+    check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
+    check(MatSetSizes(A_, rows.size(), rows.size(), A.n, A.n), "MatSetSizes");
+    check(MatSetType(A_, MATMPIAIJ), "MatSetType");
+    check(MatMPIAIJSetPreallocationCSR(A_, start.data(), A.columns + A.row_start[rows.begin],
+                                       nullptr),
+          "MatMPIAIJSetPreallocationCSR");
+    // An entry outside the pattern is a defect of the caller, not a reason to reallocate.
+    check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+    check(MatSetOption(A_, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+    check(MatSetOption(A_, MAT_SPD, PETSC_TRUE), "MatSetOption");
+    row_start_ = A.row_start;
+    columns_ = A.columns;
+    values_ = nullptr;
+    n_ = A.n;
+    if (!modes_.empty()) attach_distributed_null_space();
+    if (ksp_) check(KSPDestroy(&ksp_), "KSPDestroy");
+  }
+
+  // A ← Σ over the ranks of their A's values: each rank adds its own rows whole and, of the
+  // other ranks' rows, the entries its elements gave (non-zero: a zero adds nothing, and the
+  // entries sent to other ranks are then those of the elements along the blocks' borders).
+  void sum_values(const CsrView& A) {
+    check(MatZeroEntries(A_), "MatZeroEntries");
+    const RowBlock rows = owned_rows(A.n);
+    std::vector<PetscInt> cols;
+    std::vector<PetscScalar> vals;
+    for (PetscInt i = 0; i < A.n; ++i) {
+      const PetscInt k0 = A.row_start[i], k1 = A.row_start[i + 1];
+      if (i >= rows.begin && i < rows.end) {
+        check(MatSetValues(A_, 1, &i, k1 - k0, A.columns + k0, A.values + k0, ADD_VALUES),
+              "MatSetValues");
+        continue;
+      }
+      cols.clear();
+      vals.clear();
+      for (PetscInt k = k0; k < k1; ++k)
+        if (A.values[k] != 0.0) {
+          cols.push_back(A.columns[k]);
+          vals.push_back(A.values[k]);
+        }
+      if (!cols.empty())
+        check(MatSetValues(A_, 1, &i, static_cast<PetscInt>(cols.size()), cols.data(), vals.data(),
+                           ADD_VALUES),
+              "MatSetValues");
+    }
+    check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
+
+  // The near null space of set_near_null_space on A's blocks of rows.
+  void attach_distributed_null_space() {
+    if (null_space_) check(MatNullSpaceDestroy(&null_space_), "MatNullSpaceDestroy");
+    const RowBlock rows = owned_rows(n_);
+    if (static_cast<long long>(modes_count_) * n_ != static_cast<long long>(modes_.size())) return;
+    std::vector<Vec> vectors(static_cast<std::size_t>(modes_count_));
+    for (int k = 0; k < modes_count_; ++k) {
+      Vec& v = vectors[static_cast<std::size_t>(k)];
+      check(VecCreateMPI(PETSC_COMM_WORLD, rows.size(), n_, &v), "VecCreateMPI");
+      double* a = nullptr;
+      check(VecGetArray(v, &a), "VecGetArray");
+      const double* column = modes_.data() + static_cast<std::ptrdiff_t>(k) * n_;
+      std::copy(column + rows.begin, column + rows.end, a);
+      check(VecRestoreArray(v, &a), "VecRestoreArray");
+    }
+    check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, modes_count_, vectors.data(),
+                             &null_space_),
+          "MatNullSpaceCreate");
+    for (Vec& v : vectors) VecDestroy(&v);
+    check(MatSetNearNullSpace(A_, null_space_), "MatSetNearNullSpace");
+  }
+
+  // The iterations, residual and reason of `ksp`'s last solve; throws if it failed.
+  static KrylovReport report(KSP ksp, bool count, const std::string& name) {
     KrylovReport report;
     KSPConvergedReason reason;
     check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
@@ -167,6 +350,20 @@ class PetscKrylov final : public KrylovBackend {
       throw std::runtime_error("PETSc " + name + ": " + report.reason + " after " +
                                std::to_string(its) + " iterations");
     return report;
+  }
+
+  // x = A⁻¹ b by `ksp` from x = 0 (b and x: n entries, the caller's arrays).
+  static KrylovReport run(KSP ksp, int n, const double* b, double* x, double rtol, double atol,
+                          int max_iterations, bool count, const std::string& name) {
+    check(KSPSetTolerances(ksp, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
+    Vec vb = nullptr, vx = nullptr;
+    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, b, &vb), "VecCreateSeqWithArray");
+    check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, x, &vx), "VecCreateSeqWithArray");
+    const PetscErrorCode code = KSPSolve(ksp, vb, vx);
+    VecDestroy(&vb);
+    VecDestroy(&vx);
+    check(code, "KSPSolve");
+    return report(ksp, count, name);
   }
 
   // The values in A's arrays changed: restoring the value array is what tells PETSc (it raises the
@@ -196,7 +393,7 @@ class PetscKrylov final : public KrylovBackend {
   }
 
   void make_ksp() {
-    check(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    check(KSPCreate(comm_, &ksp_), "KSPCreate");
     check(KSPSetOptionsPrefix(ksp_, "isoflex_"), "KSPSetOptionsPrefix");
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
@@ -333,7 +530,7 @@ class PetscKrylov final : public KrylovBackend {
   void setup_multigrid(PC pc) {
     if (interpolations_.empty()) {
       // A model no larger than the coarsest level: that level's factorization is the solve.
-      check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+      set_cholesky(pc);
       return;
     }
     const int count = static_cast<int>(interpolations_.size());
@@ -372,10 +569,30 @@ class PetscKrylov final : public KrylovBackend {
     check(KSPSetType(coarse, KSPPREONLY), "KSPSetType");
     PC coarse_pc = nullptr;
     check(KSPGetPC(coarse, &coarse_pc), "KSPGetPC");
-    check(PCSetType(coarse_pc, PCCHOLESKY), "PCSetType");
+    set_cholesky(coarse_pc);
+  }
+
+  // A Cholesky factorization as `pc`: PETSc's own on one process; on MPI's world a redundant one
+  // (the matrix gathered onto every rank and factorized there, PCREDUNDANT): the coarsest level
+  // is small, and PETSc's Cholesky is sequential.
+  void set_cholesky(PC pc) {
+    if (!distributed_) {
+      check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+      return;
+    }
+    check(PCSetType(pc, PCREDUNDANT), "PCSetType");
+    KSP inner = nullptr;
+    check(PCRedundantGetKSP(pc, &inner), "PCRedundantGetKSP");
+    PC inner_pc = nullptr;
+    check(KSPGetPC(inner, &inner_pc), "KSPGetPC");
+    check(PCSetType(inner_pc, PCCHOLESKY), "PCSetType");
   }
 
   KrylovMethod method_;
+  bool distributed_;           // MPI's world has more than one rank: the matrices are distributed
+  MPI_Comm comm_;              // PETSC_COMM_WORLD if distributed_, else PETSC_COMM_SELF
+  std::vector<double> modes_;  // distributed_: the near null space's columns, whole
+  int modes_count_ = 0;
   std::vector<Mat> interpolations_;
   Mat A_ = nullptr;
   KSP ksp_ = nullptr;
@@ -393,6 +610,16 @@ class PetscKrylov final : public KrylovBackend {
 }  // namespace
 
 }  // namespace isoflex::solve
+
+extern "C" const isoflex::solve::ProcessGroup* isoflex_petsc_processes(std::string* error) {
+  try {
+    isoflex::solve::initialize();
+    return &isoflex::solve::world();
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return nullptr;
+  }
+}
 
 extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, std::string* error) {
   try {
