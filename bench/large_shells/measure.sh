@@ -7,8 +7,12 @@
 # multiplier rows), the free edge's displacement. Sequential; --max-memory 60G lets the estimate
 # pass. A fourth argument names another model of this directory with the same keys
 # (scordelis_lo_quarter.yaml: symmetry rows; scordelis_lo_two_patch.yaml: AF-BS coupling rows).
+# RANKS=N (N > 1) runs each case on N MPI ranks (mpirun -n N --oversubscribe; docs/theory/
+# solvers.md §6): the process time is mpirun's, the peak memory the largest of the ranks' (each
+# rank under its own /usr/bin/time), and the rank column says N.
 #   bench/large_shells/measure.sh "100 180 313" "direct cg_multigrid" linear
 #   bench/large_shells/measure.sh "180 313" "direct cg_multigrid" linear scordelis_lo_quarter.yaml
+#   RANKS=2 bench/large_shells/measure.sh "180 313" "cg_multigrid" linear
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -19,8 +23,10 @@ model=${4:-scordelis_lo_whole.yaml}
 tag=$(basename "$model" .yaml)
 bin=${ISOFLEX:-$root/build/isoflex}
 work=${WORK:-$root/out/large_shells}
+ranks=${RANKS:-1}
 mkdir -p "$work"
-printf "%-8s %-13s %-9s %9s %9s %9s %6s %7s %s\n" k solver kind unknowns process_s solve_s CG peak_GB u_y
+printf "%-8s %-13s %-9s %5s %9s %9s %9s %6s %7s %s\n" k solver kind ranks unknowns process_s solve_s CG \
+  peak_GB u_y
 for k in $sizes; do
   for s in $solvers; do
     f="$work/${tag}_${k}_${s}_${kind}.yaml"
@@ -30,17 +36,27 @@ for k in $sizes; do
       sed -i 's/  linear: true/  linear: false/; s/  dt: 1$/  dt: 0.5/; s/-90\*t/-450*t/' "$f"
     fi
     out="$work/${tag}_${k}_${s}_${kind}"
-    /usr/bin/time -f "%e %M" -o "$out.time" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
-    read -r wall kb < "$out.time"
-    python3 - "$out/summary.json" "$k" "$s" "$kind" "$wall" "$kb" <<'PY'
+    [[ $ranks -gt 1 ]] && out="${out}_${ranks}ranks"
+    if [[ $ranks -gt 1 ]]; then
+      rm -f "$out".time.*
+      /usr/bin/time -f "%e %M" -o "$out.time" env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+        mpirun --oversubscribe -n "$ranks" sh -c '/usr/bin/time -f "%e %M" -o "$0.time.$OMPI_COMM_WORLD_RANK" "$@"' \
+        "$out" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
+      read -r wall _ < "$out.time"
+      kb=$(cat "$out".time.* | awk '$2 > m {m = $2} END {print m}')
+    else
+      /usr/bin/time -f "%e %M" -o "$out.time" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
+      read -r wall kb < "$out.time"
+    fi
+    python3 - "$out/summary.json" "$k" "$s" "$kind" "$wall" "$kb" "$ranks" <<'PY'
 import json, sys
-path, k, s, kind, wall, kb = sys.argv[1:]
+path, k, s, kind, wall, kb, ranks = sys.argv[1:]
 try:
     d = json.load(open(path))
 except Exception:
     print(f"{k:<8} {s:<13} {kind:<9} failed (see the .log)"); sys.exit()
 u = d["probes"]["free_edge"]["displacement"][1]
-print(f"{k:<8} {s:<13} {kind:<9} {d['n_unknowns']:9d} {float(wall):9.1f} {d['wall_time_s']:9.1f} "
+print(f"{k:<8} {s:<13} {kind:<9} {ranks:>5} {d['n_unknowns']:9d} {float(wall):9.1f} {d['wall_time_s']:9.1f} "
       f"{d.get('krylov_iterations_total', 0):6d} {int(kb)/2**20:7.2f} {u:.10f}")
 PY
   done

@@ -685,9 +685,9 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     sum.newton_failed_starts = 0;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
+  if (group->size() > 1) sum.mpi_ranks = group->size();
   // Only the Kirchhoff–Love patches assemble on threads (bodies, beams and director shells on
   // one): a --threads that cannot be used is said, not silently ignored.
-  if (group->size() > 1) sum.mpi_ranks = group->size();
   if (o.threads > sum.threads)
     sum.threads_note = sys.kl_patches().empty()
                            ? fmt::format(
