@@ -317,7 +317,7 @@ struct StaticNewtonSolver::Impl {
   void make_krylov() {
     if (krylov) return;
     try {
-      auto solver = std::make_unique<solve::KrylovSolver>(krylov_method());
+      auto solver = std::make_unique<solve::KrylovSolver>(krylov_method(), problem.distributed);
       if (krylov_method() == solve::KrylovMethod::cg_multigrid)
         solver->set_interpolations(free_transfer_operators());
       else if (!problem.points.empty())

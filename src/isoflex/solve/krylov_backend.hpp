@@ -33,11 +33,13 @@ struct KrylovReport {
   std::string reason;     // PETSc's converged/diverged reason
 };
 
-// Under MPI (the module's world has N > 1 ranks: mpirun, process_group.hpp) every call is
-// collective and made with the same arguments on every rank but for A's values: the matrix solved
-// is the sum of the ranks' matrices (each holds its own elements' part, in the same pattern), b
-// is the same on every rank and x comes back whole on every rank. The matrix is PETSc's MPIAIJ
-// with contiguous blocks of rows (docs/theory/solvers.md §6); the saddle point is not distributed.
+// A distributed backend (isoflex_petsc_create's `distributed`, on MPI's world of N > 1 ranks:
+// mpirun, process_group.hpp) makes every call collective, with the same arguments on every rank
+// but for A's values: the matrix solved is the sum of the ranks' matrices (each holds its own
+// elements' part, in the same pattern), b is the same on every rank and x comes back whole on
+// every rank. The matrix is PETSc's MPIAIJ with contiguous blocks of rows (docs/theory/solvers.md
+// §6); the saddle point is not distributed. Any other backend solves its own process's matrix
+// alone, also on one of several ranks.
 class KrylovBackend {
  public:
   virtual ~KrylovBackend() = default;
@@ -73,6 +75,8 @@ class KrylovBackend {
 // the reason in *error if they fail to start. The group lives as long as the process.
 extern "C" const isoflex::solve::ProcessGroup* isoflex_petsc_processes(std::string* error);
 
-// The module's entry point: a new backend of `method` (a KrylovMethod), PETSc initialized on the
-// first call; nullptr with the reason in *error if PETSc fails to start.
-extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, std::string* error);
+// The module's entry point: a new backend of `method` (a KrylovMethod), distributed over MPI's
+// world if `distributed` is non-zero and the world has more than one rank, PETSc initialized on
+// the first call; nullptr with the reason in *error if PETSc fails to start.
+extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, int distributed,
+                                                               std::string* error);

@@ -9,7 +9,7 @@ namespace isoflex::solve {
 
 namespace {
 
-using CreateFn = KrylovBackend* (*)(int, std::string*);
+using CreateFn = KrylovBackend* (*)(int, int, std::string*);
 
 CreateFn load_module(std::string* tried) {
   return reinterpret_cast<CreateFn>(petsc_module_symbol("isoflex_petsc_create", tried));
@@ -55,12 +55,12 @@ MatX rigid_body_modes(const VecX& q, const std::vector<int>& points) {
   return modes;
 }
 
-KrylovSolver::KrylovSolver(KrylovMethod method) : method_(method) {
+KrylovSolver::KrylovSolver(KrylovMethod method, bool distributed) : method_(method) {
   std::string tried;
   const CreateFn create = load_module(&tried);
   if (!create) throw std::runtime_error("cannot load the PETSc module (" + tried + ")");
   std::string error;
-  backend_.reset(create(static_cast<int>(method), &error));
+  backend_.reset(create(static_cast<int>(method), distributed ? 1 : 0, &error));
   if (!backend_) throw std::runtime_error("the PETSc module failed to start: " + error);
 }
 

@@ -31,7 +31,10 @@ MatX rigid_body_modes(const VecX& q, const std::vector<int>& points);
 // positive definite, no convergence), so that the caller can fall back to a direct solver.
 class KrylovSolver {
  public:
-  explicit KrylovSolver(KrylovMethod method);
+  // `distributed`: on MPI's world of several ranks, the matrix solved is the sum of the ranks'
+  // matrices (krylov_backend.hpp, docs/theory/solvers.md §6); otherwise every process solves its
+  // own matrix alone.
+  explicit KrylovSolver(KrylovMethod method, bool distributed = false);
   ~KrylovSolver();
   KrylovSolver(KrylovSolver&&) noexcept;
   KrylovSolver& operator=(KrylovSolver&&) noexcept;

@@ -104,9 +104,9 @@ std::vector<PetscInt> local_row_starts(const CsrView& M, RowBlock block) {
 
 class PetscKrylov final : public KrylovBackend {
  public:
-  explicit PetscKrylov(KrylovMethod method)
+  PetscKrylov(KrylovMethod method, bool distributed)
       : method_(method),
-        distributed_(world().size() > 1),
+        distributed_(distributed && world().size() > 1),
         comm_(distributed_ ? PETSC_COMM_WORLD : PETSC_COMM_SELF) {}
   ~PetscKrylov() override {
     destroy_saddle_point();
@@ -621,10 +621,12 @@ extern "C" const isoflex::solve::ProcessGroup* isoflex_petsc_processes(std::stri
   }
 }
 
-extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, std::string* error) {
+extern "C" isoflex::solve::KrylovBackend* isoflex_petsc_create(int method, int distributed,
+                                                               std::string* error) {
   try {
     isoflex::solve::initialize();
-    return new isoflex::solve::PetscKrylov(static_cast<isoflex::solve::KrylovMethod>(method));
+    return new isoflex::solve::PetscKrylov(static_cast<isoflex::solve::KrylovMethod>(method),
+                                           distributed != 0);
   } catch (const std::exception& e) {
     if (error) *error = e.what();
     return nullptr;
