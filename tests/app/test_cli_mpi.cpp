@@ -222,3 +222,25 @@ TEST(CliMpi, WhatIsNotDistributedStopsWithTheReason) {
   EXPECT_NE(q.out.find("error: 2 MPI ranks: "), std::string::npos) << q.out;
   EXPECT_NE(q.out.find("solved on one process only"), std::string::npos) << q.out;
 }
+
+// A failure of rank 0 alone (it alone writes) ends every rank, instead of leaving the others
+// waiting for it in a sum: an output folder it cannot create, and a VTK folder it cannot make
+// (a file of that name in the way). The runs end with rank 0's message, not by the timeout (124).
+TEST(CliMpi, AnOutputFailureOfRankZeroEndsEveryRank) {
+  ISOFLEX_REQUIRE_PETSC();
+  ISOFLEX_REQUIRE_MPIRUN();
+  const Runs runs("output", roof("cg_hypre", false));
+  const CliResult folder = run_shell(
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 120 mpirun "
+      "--oversubscribe -n 2 " ISOFLEX_BINARY " run --static " +
+      runs.model.string() + " -o /proc/isoflex_no_such_folder/out");
+  EXPECT_NE(folder.code, 0) << folder.out;
+  EXPECT_NE(folder.code, 124) << "a rank did not end: " << folder.out;
+  EXPECT_NE(folder.out.find("cannot create output directory"), std::string::npos) << folder.out;
+  fs::create_directories(runs.rank_out(0));
+  std::ofstream(runs.rank_out(0) / "vtk") << "in the way\n";
+  const CliResult vtk = runs.two_ranks();
+  EXPECT_NE(vtk.code, 0) << vtk.out;
+  EXPECT_NE(vtk.code, 124) << "a rank did not end: " << vtk.out;
+  EXPECT_NE(vtk.out.find("vtk"), std::string::npos) << vtk.out;
+}

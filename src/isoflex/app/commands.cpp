@@ -646,6 +646,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   if (ec) {
     fmt::print(err, "error: {}: cannot create output directory: {}\n", outdir.string(),
                ec.message());
+    // Rank 0 alone writes: the other ranks would wait for it in the first sum.
+    if (group->size() > 1) group->abort(2);
     return 2;
   }
 
@@ -930,6 +932,8 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
                  outdir.string());
     for (const std::string& e : output_errors)
       if (e != sum.message) fmt::print(err, "error: {}\n", e);
+    // An output error is rank 0's alone (it writes): the other ranks may wait for it in a sum.
+    if (code == kExitOutputError && group->size() > 1) group->abort(code);
     return code;
   }
   if (statics) {

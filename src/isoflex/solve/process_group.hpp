@@ -15,6 +15,9 @@ class ProcessGroup {
   // values[i] ← Σ over the ranks of values[i] (count entries, each rank's own array); every rank
   // receives the same sums, bit for bit. Collective: every rank calls it with the same count.
   virtual void sum(double* values, long count) const = 0;
+  // Ends every rank's process with exit status `code` (MPI_Abort): for a failure on one rank
+  // that the others, which may be waiting for it in a sum, cannot see.
+  [[noreturn]] virtual void abort(int code) const = 0;
 };
 
 // The ranks the launcher announced in the environment (Open MPI's OMPI_COMM_WORLD_SIZE, the

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -71,6 +72,11 @@ class MpiWorld final : public ProcessGroup {
       values += chunk;
       count -= chunk;
     }
+  }
+  [[noreturn]] void abort(int code) const override {
+    std::fflush(nullptr);
+    MPI_Abort(PETSC_COMM_WORLD, code);
+    std::_Exit(code);  // MPI_Abort does not return
   }
 
  private:
