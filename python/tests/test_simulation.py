@@ -148,7 +148,7 @@ class Threads(unittest.TestCase):
         self.assertEqual(sim.state.step, steps + 1)
 
     def test_the_gil_is_released_while_stepping(self):
-        sim = isoflex.Simulation(short(SLIDER_CRANK, 0.5))
+        sim = isoflex.Simulation(short(SLIDER_CRANK, 2.0))
         count, stop = [0], threading.Event()
 
         def spin():
@@ -165,7 +165,8 @@ class Threads(unittest.TestCase):
         finally:
             stop.set()
             t.join()
-        # 50 steps of ~1 ms: a thread that never got the GIL would have counted ~0
+        # 200 steps of ~0.2 ms (bench/slider_crank.md): a thread that never got the GIL would
+        # have counted ~0
         self.assertGreater(during, 50)
 
 
