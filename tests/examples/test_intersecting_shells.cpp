@@ -57,9 +57,11 @@ TEST(IntersectingShells, ConservesEnergyAndMomentaAfterTheLoads) {
 
 // Newton's start (EnergyMomentumIntegrator::attempt): the one the last step converged from first,
 // the secant increments transported to the new director bases, a diverging start abandoned
-// early. To t = 6 (300 steps, past t ≈ 4.5 where the extrapolation starts to fail): 2281
-// iterations, 9 failed starts, 308 parts of steps (some taken in halves; measured); always from the
-// extrapolation first, 3714 and 59.
+// early, and the rotation trust region (solver.max_rotation_correction). To t = 6 (300 steps, past
+// t ≈ 4.5 where the extrapolation starts to fail), counting the work of attempts retried in
+// halves: 2267 iterations, 3 failed starts, no step halved (measured); without the trust region
+// 2591, 33 and 308 parts of steps; before the starts were chosen, always from the extrapolation
+// first, 3714 and 59 (then not counting the halved attempts).
 TEST(IntersectingShells, NewtonStartsWhereTheLastStepConverged) {
   const auto m = intersecting_shells(model::Formulation::reparametrized);
   const auto sys = system::System::compile(m);
@@ -74,7 +76,7 @@ TEST(IntersectingShells, NewtonStartsWhereTheLastStepConverged) {
   }
   std::printf("  [starts] %d iterations, %d failed starts, %d parts of steps\n", iterations, failed,
               substeps);
-  EXPECT_LE(iterations, 2600);
-  EXPECT_LE(failed, 20);
-  EXPECT_LE(substeps, 320);
+  EXPECT_LE(iterations, 2400);  // 2267 with the rotation trust region (test_rotation_trust_region)
+  EXPECT_LE(failed, 5);
+  EXPECT_EQ(substeps, 300);
 }

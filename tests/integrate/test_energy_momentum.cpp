@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/integrate/step_subdivision.hpp"
 #include "isoflex/io/model_reader.hpp"
 #include "support/finite_difference.hpp"
 #include "support/models.hpp"
@@ -247,6 +248,25 @@ TEST(EnergyMomentum, FailingStepsAreSubdividedWhenAllowed) {
   EXPECT_NEAR(s.t, 0.2, 1e-15);
   EXPECT_GT(substeps, 4);
   EXPECT_LT(std::abs(integ.snapshot(s, {}, {}).total_energy - E0), 1e-12 * std::abs(E0));
+}
+
+// The work of an attempt that failed counts in the step that was then taken in halves: its
+// iterations and its abandoned starts (NewtonFailure::spent, step_subdivision.hpp).
+TEST(EnergyMomentum, ASubdividedStepCountsTheWorkOfItsFailedAttempt) {
+  int calls = 0;
+  const auto attempt = [&](double dt) {
+    ++calls;
+    if (dt > 0.6) throw integrate::NewtonFailure("step 1").spent(7, 3);
+    integrate::StepStats st;
+    st.iterations = 4;
+    st.failed_starts = 1;
+    return st;
+  };
+  const integrate::StepStats st = integrate::subdivided(attempt, 1.0, 2);
+  EXPECT_EQ(calls, 3);
+  EXPECT_EQ(st.iterations, 7 + 4 + 4);
+  EXPECT_EQ(st.failed_starts, 3 + 1 + 1);
+  EXPECT_EQ(st.substeps, 2);
 }
 
 // The time of step n is n Δt, not a sum of n increments (which drifted to 9.999000000000267

@@ -349,7 +349,8 @@ TEST(ModelReader, UnknownKey) {
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
-      "increment_tolerance, max_iterations, max_subdivisions, linear, initial_equilibrium, "
+      "increment_tolerance, max_iterations, max_rotation_correction, max_subdivisions, linear, "
+      "initial_equilibrium, "
       "path_following, cosimulation, saddle_point_solver, linear_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
@@ -578,6 +579,17 @@ TEST(ModelReader, SolverNumericalDissipation) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.1"})),
             "m.yaml:7: solver.numerical_dissipation: acts on the strains of beams and director "
             "shells, and the model has none");
+}
+
+TEST(ModelReader, SolverMaxRotationCorrection) {
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.max_rotation_correction,
+            0.1);
+  EXPECT_EQ(read_model_string(with_bodies({"solver: {max_rotation_correction: 0}"}), "m.yaml")
+                .solver.max_rotation_correction,
+            0.0);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  max_rotation_correction: -0.5"})),
+            "m.yaml:7: solver.max_rotation_correction: -0.5 is negative (the largest turn, in "
+            "rad, of a Newton correction; 0: no limit)");
 }
 
 // The solver of static Newton matrices without rows (integrate/static_newton.hpp

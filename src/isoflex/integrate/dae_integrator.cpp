@@ -212,7 +212,8 @@ StepStats DaeIntegrator::attempt(State& s, double h) const {
       });
   if (!o.converged)
     throw NewtonFailure(fmt::format("step {} (t = {:.6g})", s.step + 1, t1), o,
-                        opt.residual_tolerance);
+                        opt.residual_tolerance)
+        .spent(o.iterations, 0);
   const VecX acc = p.a + p.beta_p * (q - p.q);
   const VecX v1 = p.v + p.gamma_p * (q - p.q);
   if (sys_.viscous()) {  // the trapezoidal rule of the viscous power f_v·q̇

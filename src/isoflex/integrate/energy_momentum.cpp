@@ -182,6 +182,20 @@ SpMat EnergyMomentumIntegrator::reduced_stiffness(const VecX& qm, const SpMat& G
   return (2.0 / dt) * sys_.mass() + dt * Kf + (0.5 * dt) * sys_.constraint_hessian(qm, lambda);
 }
 
+// The trust region of the reparametrized corrections (docs/theory/schemes.md §6): a correction
+// that turns a director or a frame by more than max_rotation_correction is shortened to it. The
+// update maps (exp on S² (54), Rodrigues (37)) are injective only below π, and on thin shells
+// the linearization is trusted much less far: in the intersecting shells no converged step ever
+// had a correction above 0.45 rad, and every start that failed had one (1.4–80 rad within two
+// iterations, examples/intersecting_shells/README.md).
+double EnergyMomentumIntegrator::rotation_trust_factor(const VecX& dx) const {
+  const double limit = settings_.max_rotation_correction;
+  if (settings_.formulation != F::reparametrized || !(limit > 0.0)) return 1.0;
+  double turn = 0.0;
+  for (const int i : sys_.rotation_tree_coordinates()) turn = std::max(turn, std::abs(dx(i)));
+  return turn > limit ? limit / turn : 1.0;
+}
+
 const VecX& EnergyMomentumIntegrator::correction(const NewtonMatrix& J, const VecX& R,
                                                  bool fresh) const {
   if (J.tree) {
@@ -454,13 +468,15 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
         [&](const VecX& R) {
           const VecX& dx = correction(J, R, fresh);
           fresh = false;
-          x += dx;
+          const double a = rotation_trust_factor(dx);
+          x += a * dx;
           // Configuration units for every formulation (positions; u moves material points by
           // about |u| times the size of the system).
-          const double size = settings_.formulation == F::constrained
-                                  ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
-                                  : dx.lpNorm<Eigen::Infinity>() *
-                                        (settings_.formulation == F::reparametrized ? qscale : 1.0);
+          const double size =
+              a * (settings_.formulation == F::constrained
+                       ? dx.head(sys_.n()).lpNorm<Eigen::Infinity>()
+                       : dx.lpNorm<Eigen::Infinity>() *
+                             (settings_.formulation == F::reparametrized ? qscale : 1.0));
           return size <= settings_.increment_tolerance * qscale;
         });
     std::string refused;
@@ -486,8 +502,11 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     }
     if (k + 1 == starts.size()) {
       const std::string where = fmt::format("step {} (t = {:.6g})", s.step + 1, s.t + c.dt);
-      if (refused.empty()) throw NewtonFailure(where, o, opt.residual_tolerance);
-      throw NewtonFailure(where + ": " + refused);
+      // Every start of a failed attempt failed.
+      const int all = static_cast<int>(starts.size());
+      if (refused.empty())
+        throw NewtonFailure(where, o, opt.residual_tolerance).spent(spent + o.iterations, all);
+      throw NewtonFailure(where + ": " + refused).spent(spent + o.iterations, all);
     }
     spent += o.iterations;
     ++st.failed_starts;

@@ -107,6 +107,8 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // −A⁻¹R for the kept matrix; `fresh`: A was evaluated since the last call (else its
   // factorization is reused where one is kept: the chord corrections of newton_loop).
   const VecX& correction(const NewtonMatrix& J, const VecX& R, bool fresh) const;
+  // 1, or the factor that shortens a reparametrized correction to max_rotation_correction.
+  double rotation_trust_factor(const VecX& dx) const;
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;

@@ -76,9 +76,19 @@ class NewtonFailure : public std::runtime_error {
   NewtonFailure(const std::string& where, const NewtonOutcome& o, double residual_tolerance)
       : std::runtime_error(failure_message(where, o, residual_tolerance)), residual_(o.residual) {}
   double residual() const { return residual_; }
+  // The work the failed step did before it gave up, so that a step retried in halves reports
+  // it (step_subdivision.hpp): Newton iterations and abandoned starts.
+  NewtonFailure& spent(int iterations, int starts) {
+    iterations_ = iterations;
+    starts_ = starts;
+    return *this;
+  }
+  int spent_iterations() const { return iterations_; }
+  int spent_starts() const { return starts_; }
 
  private:
   double residual_ = std::nan("");
+  int iterations_ = 0, starts_ = 0;
 };
 
 // residual(with_matrix) → R at the current iterate, the Newton matrix kept when asked (a

@@ -8,17 +8,21 @@
 
 namespace isoflex::integrate {
 
+// The iterations and abandoned starts of a failed attempt count in the step's (StepStats).
 template <class Attempt>
 StepStats subdivided(Attempt&& attempt, double dt, int max_subdivisions, int depth = 0) {
+  int lost_iterations = 0, lost_starts = 0;
   try {
     return attempt(dt);
-  } catch (const NewtonFailure&) {
+  } catch (const NewtonFailure& e) {
     if (depth >= max_subdivisions) throw;
+    lost_iterations = e.spent_iterations();
+    lost_starts = e.spent_starts();
   }
   const StepStats a = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
   const StepStats b = subdivided(attempt, 0.5 * dt, max_subdivisions, depth + 1);
-  return {a.iterations + b.iterations, b.residual, a.substeps + b.substeps,
-          a.failed_starts + b.failed_starts};
+  return {lost_iterations + a.iterations + b.iterations, b.residual, a.substeps + b.substeps,
+          lost_starts + a.failed_starts + b.failed_starts};
 }
 
 // One whole step of s by `attempt(dt)`, subdivided on failure: s.step advances by one, s.t is

@@ -63,11 +63,11 @@ struct State {
 };
 
 struct StepStats {
-  int iterations = 0;
+  int iterations = 0;     // Newton iterations, also those of attempts then retried in halves
   double residual = 0.0;  // ‖R‖∞ at the last evaluation
   int substeps = 1;       // > 1: the step was subdivided (model::Solver::max_subdivisions)
   // Energy–momentum: Newton starts abandoned before one converged (iterations include theirs),
-  // in the parts that were kept.
+  // and every start of an attempt that was then retried in halves.
   int failed_starts = 0;
 };
 

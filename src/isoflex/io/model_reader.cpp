@@ -201,11 +201,12 @@ class Reader : YamlFields {
   void read_solver(const YAML::Node& n, model::Solver& s) const {
     if (n.IsNull()) return;
     expect_map(n, "solver");
-    check_keys(n, "solver",
-               {"analysis", "formulation", "integrator", "rho_infinity", "numerical_dissipation",
-                "scaling", "dt", "t_end", "residual_tolerance", "increment_tolerance",
-                "max_iterations", "max_subdivisions", "linear", "initial_equilibrium",
-                "path_following", "cosimulation", "saddle_point_solver", "linear_solver"});
+    check_keys(
+        n, "solver",
+        {"analysis", "formulation", "integrator", "rho_infinity", "numerical_dissipation",
+         "scaling", "dt", "t_end", "residual_tolerance", "increment_tolerance", "max_iterations",
+         "max_rotation_correction", "max_subdivisions", "linear", "initial_equilibrium",
+         "path_following", "cosimulation", "saddle_point_solver", "linear_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -259,6 +260,14 @@ class Reader : YamlFields {
       s.increment_tolerance = positive(v, "solver.increment_tolerance");
     if (const auto v = n["max_iterations"])
       s.max_iterations = integer(v, "solver.max_iterations", 1);
+    if (const auto v = n["max_rotation_correction"]) {
+      s.max_rotation_correction = number(v, "solver.max_rotation_correction");
+      if (!(s.max_rotation_correction >= 0.0))
+        fail(v, "solver.max_rotation_correction",
+             fmt::format("{} is negative (the largest turn, in rad, of a Newton correction; 0: "
+                         "no limit)",
+                         s.max_rotation_correction));
+    }
     if (const auto v = n["linear"]) s.linear = boolean(v, "solver.linear");
     if (const auto v = n["max_subdivisions"]) {
       s.max_subdivisions = integer(v, "solver.max_subdivisions", 0);

@@ -497,6 +497,10 @@ struct Solver {
   double residual_tolerance = 1e-16;  // ‖R‖∞ relative to max(1, (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞)
   double increment_tolerance = 1e-11;  // ‖Δx‖∞ relative to max(1, ‖x‖∞)
   int max_iterations = 25;
+  // Energy–momentum, reparametrized: the trust region of a Newton correction, the largest turn
+  // (rad) of a director or a frame it may apply; a longer one is shortened (0: no limit;
+  // docs/theory/schemes.md §6).
+  double max_rotation_correction = 0.1;
   // A time step whose Newton iteration fails is retried as two half steps, at most this many
   // halvings deep (0: never; the run stops at the failing step). On by default: a step too long
   // for Newton (a free-flying beam at Δt = 0.5) is halved rather than ending the run.

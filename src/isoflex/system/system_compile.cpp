@@ -135,6 +135,7 @@ System System::compile(const model::Model& model) {
   s.add_joint_drivers(model, find, build.driver_of_joint);
   s.build_forest(build);
   s.add_joint_instances(build);
+  s.mark_rotations();
   s.check_assembled(build);
   s.select_loop_rows();
   // A spherical joint whose ground point moves (a driver) must keep all its rows: a dropped row
@@ -985,6 +986,31 @@ void System::add_joint_instances(Build& build) {
   }
   tree_order_ = build.order;
   k_ = nu;
+}
+
+void System::mark_rotations() {
+  const auto directors = [&](int node) {
+    switch (node_kind(node)) {
+      case NodeKind::frame:
+        return 9;
+      case NodeKind::director:
+        return 3;
+      case NodeKind::point:
+        return 0;
+    }
+    return 0;
+  };
+  for (int i = 0; i < static_cast<int>(nodes_.size()); ++i)
+    for (int c = 0; c < directors(i); ++c) rotation_q_.push_back(q_offset(i) + 3 + c);
+  for (std::size_t r = 0; r < roots_.size(); ++r)
+    for (int c = 3; c < root_width_[r]; ++c) rotation_nu_.push_back(root_nu_offset_[r] + c);
+  for (int j : tree_order_) {
+    const JointInstance& J = joints_[static_cast<std::size_t>(j)];
+    const joints::FreedomBlock B =
+        J.joint->freedom_block(node_q(q0_, J.parent), node_q(q0_, J.child));
+    for (int c = 0; c < J.joint->freedom_count(); ++c)
+      if (B.col(c).tail<3>().squaredNorm() > 0.0) rotation_nu_.push_back(J.nu_offset + c);
+  }
 }
 
 // Every joint holds at t = 0 (the frames are built to coincide; the points of sliding joints and

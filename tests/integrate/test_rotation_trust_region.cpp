@@ -1,0 +1,67 @@
+// The trust region of the reparametrized Newton corrections (solver.max_rotation_correction,
+// docs/theory/schemes.md §6): which coordinates turn something, and what the limit does on the
+// thin plates of DNSM-III §5.3 (examples/intersecting_shells/README.md).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "isoflex/integrate/energy_momentum.hpp"
+#include "isoflex/io/model_reader.hpp"
+#include "support/models.hpp"
+
+using namespace isoflex;
+
+namespace {
+model::Model example(const std::string& name) {
+  return io::read_model(std::string(ISOFLEX_SOURCE_DIR) + "/examples/" + name + "/model.yaml");
+}
+}  // namespace
+
+TEST(RotationTrustRegion, MarksTheCoordinatesThatTurn) {
+  // A free frame: φ̇ then ω among its six velocities; its directors d₁, d₂, d₃ among its twelve
+  // coordinates.
+  const auto flip = system::System::compile(test::free_body_flip());
+  ASSERT_EQ(flip.k(), 6);
+  EXPECT_EQ(flip.rotation_tree_coordinates(), (std::vector<int>{3, 4, 5}));
+  EXPECT_EQ(flip.rotation_coordinates(), (std::vector<int>{3, 4, 5, 6, 7, 8, 9, 10, 11}));
+  // Tree joints: the revolute crank bearing turns, the prismatic slider guide does not.
+  const auto crank = system::System::compile(example("slider_crank_rigid"));
+  int prismatic = 0;
+  for (const auto& J : crank.joints())
+    if (J.tree && J.type == "prismatic") {
+      ++prismatic;
+      for (int i : crank.rotation_tree_coordinates()) EXPECT_NE(i, J.nu_offset);
+    }
+  EXPECT_EQ(prismatic, 1);
+  EXPECT_EQ(static_cast<int>(crank.rotation_tree_coordinates().size()), crank.k() - prismatic);
+  // Director nodes: two rotation increments each (free), their director among (φ, d).
+  const auto shells = system::System::compile(example("intersecting_shells"));
+  EXPECT_EQ(static_cast<int>(shells.rotation_coordinates().size()),
+            2 * 9 + 3 * shells.node_count(NodeKind::director));
+}
+
+// Without the limit, Newton from the start values of the late steps makes corrections of 1–80 rad
+// on the 2 mm plates, the exp map wraps them around the sphere, and the start fails; whole steps
+// fail and are halved. With it (the default 0.1 rad) a start almost never fails.
+TEST(RotationTrustRegion, KeepsNewtonOnTheThinPlatesFromFailing) {
+  int iterations[2] = {0, 0}, failed[2] = {0, 0}, parts[2] = {0, 0};
+  for (int limit = 0; limit < 2; ++limit) {
+    auto m = example("intersecting_shells");
+    if (limit == 0) m.solver.max_rotation_correction = 0.0;
+    const auto sys = system::System::compile(m);
+    integrate::EnergyMomentumIntegrator integ(sys, m.solver);
+    auto s = integ.initial_state();
+    for (int i = 0; i < 300; ++i) {  // to t = 6
+      const auto st = integ.step(s);
+      iterations[limit] += st.iterations;
+      failed[limit] += st.failed_starts;
+      parts[limit] += st.substeps;
+    }
+    std::printf("  [limit %s] %d iterations, %d failed starts, %d parts of steps\n",
+                limit ? "0.1" : "off", iterations[limit], failed[limit], parts[limit]);
+  }
+  EXPECT_GT(failed[0], 30);
+  EXPECT_LE(failed[1], 3);
+  EXPECT_EQ(parts[1], 300);
+  EXPECT_LT(iterations[1], 0.9 * iterations[0]);
+}
