@@ -315,7 +315,16 @@ TEST(Cli, NewtonFailureKeepsResultsAndSaysWhere) {
   // By default a failing step is halved (up to 6 times): one iteration then suffices.
   const auto halved = run("run " + (d / "m.yaml").string() + " -o " + (d / "out").string());
   EXPECT_EQ(halved.code, 0) << halved.out;
-  EXPECT_NE(read(d / "out/summary.json").find("\"status\": \"completed\""), std::string::npos);
+  const std::string summary = read(d / "out/summary.json");
+  EXPECT_NE(summary.find("\"status\": \"completed\""), std::string::npos);
+  // summary.json says how many steps were halved, and counts the failed attempts' iterations.
+  const auto count = [&](const std::string& key) {
+    const auto at = summary.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1 : std::stoi(summary.substr(at + key.size() + 4));
+  };
+  EXPECT_GT(count("subdivided_steps"), 0) << summary;
+  EXPECT_LE(count("subdivided_steps"), 20) << summary;
+  EXPECT_GT(count("newton_iterations_total"), 2 * count("subdivided_steps")) << summary;
   EXPECT_EQ(run("run " + (d / "m.yaml").string() + " --max-subdivisions 21").code, 2);
 }
 

@@ -1216,6 +1216,9 @@ TEST(SummaryWriter, KeysValuesNullAndEscapes) {
   EXPECT_EQ(json.find("newton_failed_starts"), std::string::npos);  // not an energy–momentum run
   s.newton_failed_starts = 7;
   EXPECT_NE(io::summary_json(s).find("\"newton_failed_starts\": 7,"), std::string::npos);
+  EXPECT_EQ(json.find("subdivided_steps"), std::string::npos);  // not a time integration
+  s.subdivided_steps = 3;
+  EXPECT_NE(io::summary_json(s).find("\"subdivided_steps\": 3,"), std::string::npos);
 }
 
 TEST(SummaryWriter, EmptyProbesAndControlCharacters) {

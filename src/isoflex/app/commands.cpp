@@ -685,6 +685,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
   sum.t_end = m.solver.t_end;
   if (!statics && m.solver.integrator == model::Integrator::energy_momentum)
     sum.newton_failed_starts = 0;
+  if (!statics) sum.subdivided_steps = 0;
   if (!sys.kl_patches().empty())
     sum.threads = sys.kl_patches().front().element->patch().threads_used();
   if (group->size() > 1) sum.mpi_ranks = group->size();
@@ -753,6 +754,7 @@ int run_command(const RunOptions& o, std::FILE* out, std::FILE* err) {
     ++sum.steps;
     sum.newton_iterations_total += st.iterations;
     if (sum.newton_failed_starts) *sum.newton_failed_starts += st.failed_starts;
+    if (sum.subdivided_steps && st.substeps > 1) ++*sum.subdivided_steps;
     sum.max_constraint_violation =
         std::max(sum.max_constraint_violation, snap.constraint_violation);
     if (conservative)

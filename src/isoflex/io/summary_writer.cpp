@@ -97,6 +97,7 @@ std::string summary_json(const RunSummary& s) {
   integer("steps", s.steps);
   integer("newton_iterations_total", s.newton_iterations_total);
   if (s.newton_failed_starts) integer("newton_failed_starts", *s.newton_failed_starts);
+  if (s.subdivided_steps) integer("subdivided_steps", *s.subdivided_steps);
   real("dt", s.dt);
   real("t_end", s.t_end);
   real("wall_time_s", s.wall_time_s);

@@ -24,6 +24,9 @@ struct RunSummary {
   // Energy–momentum runs: Newton starts that failed before another converged (in the iterations
   // above; integrate::StepStats::failed_starts).
   std::optional<int> newton_failed_starts;
+  // Time integration: steps taken in parts because Newton failed on the whole step
+  // (solver.max_subdivisions; integrate::StepStats::substeps > 1).
+  std::optional<int> subdivided_steps;
   double dt = 0.0;
   double t_end = 0.0;
   double wall_time_s = 0.0;
