@@ -51,14 +51,11 @@ TEST(ShellPlateOnHub, ConservesAndTheFormulationsAgree) {
     int iterations = 0;
     for (std::size_t i = 1; i < s.size(); ++i) iterations += s[i].newton_iterations;
     EXPECT_LE(iterations, 8 * 50) << model::to_string(f);
-    for (std::size_t i = i0; i < s.size(); ++i) {
-      EXPECT_LT(std::abs(s[i].total_energy - s[i0].total_energy) / s[i0].total_energy, 1e-12) << i;
-      EXPECT_LT((s[i].linear_momentum - s[i0].linear_momentum).norm(), 1e-11) << i;
-      EXPECT_LT(
-          (s[i].angular_momentum - s[i0].angular_momentum).norm() / s[i0].angular_momentum.norm(),
-          1e-12)
-          << i;
-    }
+    const test::Drift d = test::drift_after(r, 0.2);
+    EXPECT_LT(d.energy, 1e-12) << model::to_string(f);
+    EXPECT_LT(d.L, 1e-12) << model::to_string(f);
+    // p = 0 (the pulse is a pure torque): absolute.
+    for (std::size_t i = i0; i < s.size(); ++i) EXPECT_LT(s[i].linear_momentum.norm(), 1e-11) << i;
     for (const auto& x : s) EXPECT_LT(x.constraint_violation, 1e-13);
   }
   EXPECT_EQ(unknowns, (std::vector<int>{406, 522 + 116, 522}));
