@@ -131,13 +131,20 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predict
       // λ ≈ λₙ in every predictor.
       VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
       x.head(sys_.n()) = s.q;
-      if (have && p == Predictor::extrapolated) x.head(sys_.n()) += dt * s.v;
+      if (have && p == Predictor::extrapolated) {
+        x.head(sys_.n()) += dt * s.v;
+        secant_directors(s, ratio, x);
+      }
       if (have && p == Predictor::secant)
         x.head(sys_.n()) += ratio * s.last_unknowns.head(sys_.n());
       return x;
     }
     case F::nullspace:
-      if (have && p == Predictor::extrapolated) return s.q + dt * s.v;
+      if (have && p == Predictor::extrapolated) {
+        VecX q = s.q + dt * s.v;
+        secant_directors(s, ratio, q);
+        return q;
+      }
       if (have && p == Predictor::secant) return s.q + ratio * s.last_unknowns;
       return s.q;
     case F::reparametrized: {
@@ -149,6 +156,17 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predict
     }
   }
   return {};
+}
+
+// The extrapolation moves a director node's position by Δt vₙ and its director as in the last
+// step (NodeType::extrapolate, the same in the reparametrized formulation): vₙ of a director
+// carries the period-2 oscillation of the unresolved director modes, the secant does not.
+void EnergyMomentumIntegrator::secant_directors(const State& s, double ratio, VecX& x) const {
+  for (int i = 0; i < sys_.node_count(); ++i)
+    if (sys_.node_kind(i) == NodeKind::director) {
+      const int d = sys_.q_offset(i) + 3;
+      x.segment<3>(d) = s.q.segment<3>(d) + ratio * s.last_unknowns.segment<3>(d);
+    }
 }
 
 VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x) const {

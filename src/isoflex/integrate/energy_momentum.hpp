@@ -77,6 +77,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // or the secant qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u).
   enum class Predictor { extrapolated, at_rest, secant };
   VecX start_unknowns(const State& s, double dt, Predictor p) const;
+  void secant_directors(const State& s, double ratio, VecX& x) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
   // The Newton residual scale of a step from s; `full` = (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞.
   double residual_scale(const State& s, double dt, double full) const;

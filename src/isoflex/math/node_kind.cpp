@@ -90,16 +90,15 @@ class DirectorNodeType final : public NodeType {
     return dn::root_update(qn, u, &step);
   }
   NodeMat root_update_block(CRef qn, CRef u) const override { return dn::root_update_block(qn, u); }
-  // (Δt φ̇, Δt ω·d₂, −Δt ω·d₁) with ω = d × ḋ in the basis at q: the last step's increments are
-  // in the tangent basis of the last step, which may differ (dn::tangent_basis).
   void transport_increments(CRef qn, CRef q1, Eigen::Ref<VecX> u) const override {
     dn::transport_increments(qn, q1, u);
   }
-  bool extrapolate(CRef q, CRef v, double dt, Eigen::Ref<VecX> u) const override {
-    const Vec3 d = q.segment<3>(3);
-    const Vec3 w = dt * d.cross(Vec3(v.segment<3>(3)));
-    const Mat<3, 2> b = dn::tangent_basis(d);
-    u << dt * v.segment<3>(0), w.dot(b.col(1)), -w.dot(b.col(0));
+  // The position by Δt φ̇; the rotation keeps the last step's increments (transported to the
+  // basis at q, scaled by the step ratio): the mean angular velocity of the last step, not ω
+  // at tₙ, which carries the undamped period-2 oscillation of the unresolved director modes
+  // (docs/theory/schemes.md §6).
+  bool extrapolate(CRef, CRef v, double dt, Eigen::Ref<VecX> u) const override {
+    u.head<3>() = dt * v.segment<3>(0);
     return true;
   }
   Vec3 material_point(CRef q, const Vec3& X) const override {

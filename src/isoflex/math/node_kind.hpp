@@ -61,7 +61,8 @@ class NodeType {
   virtual NodeMat root_update_block(CRef qn, CRef u) const = 0;
   // The increments of a step of length dt at the constant velocity v, written into u, for the
   // Newton predictor; false if the kind has none better than the last step's increments scaled
-  // by the step ratio (a frame node: its increments are in a fixed basis).
+  // by the step ratio (a frame node: its increments are in a fixed basis). u holds those on
+  // entry; a kind may overwrite only some of them (a director node its position).
   virtual bool extrapolate(CRef q, CRef v, double dt, Eigen::Ref<VecX> u) const = 0;
   // The increments u of a step from qn to q1, rewritten in the bases the next step from q1 uses
   // (the secant predictor); a kind whose increments are in fixed bases keeps them.
