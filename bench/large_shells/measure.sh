@@ -4,15 +4,21 @@
 # linear or nonlinear (5× the self-weight in two load steps), one `isoflex run` each under
 # /usr/bin/time: wall time and peak memory of the process, the static solve's wall time, the
 # Krylov iterations (CG; FGMRES, or the direct saddle-point solver's GMRES, on a model with
-# multiplier rows), the free edge's displacement. Sequential; --max-memory 60G lets the estimate
+# multiplier rows), the probe's displacement. Sequential; --max-memory 60G lets the estimate
 # pass. A fourth argument names another model of this directory with the same keys
-# (scordelis_lo_quarter.yaml: symmetry rows; scordelis_lo_two_patch.yaml: AF-BS coupling rows).
+# (scordelis_lo_quarter.yaml: symmetry rows; scordelis_lo_two_patch.yaml: AF-BS coupling rows;
+# pinched_cylinder.yaml: the one-eighth pinched cylinder, symmetry rows, linear only).
+# The printed value is the displacement component of a probe: the model's line
+# `# measure: probe NAME COMPONENT` (pinched_cylinder.yaml: `ref z`, u_z under the load), else
+# `free_edge y` (the roofs' u_y at the midpoint of the free edge). The nonlinear variant scales
+# the roofs' self-weight (-90*t → -450*t); a model without it stops with a message.
 # RANKS=N (N > 1) runs each case on N MPI ranks (mpirun -n N --oversubscribe; docs/theory/
 # solvers.md §6): the process time is mpirun's, the peak memory the largest of the ranks' (each
 # rank under its own /usr/bin/time), and the rank column says N.
 #   bench/large_shells/measure.sh "100 180 313" "direct cg_multigrid" linear
 #   bench/large_shells/measure.sh "180 313" "direct cg_multigrid" linear scordelis_lo_quarter.yaml
 #   RANKS=2 bench/large_shells/measure.sh "180 313" "cg_multigrid" linear
+#   bench/large_shells/measure.sh "180 313" "direct cg_multigrid" linear pinched_cylinder.yaml
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -24,9 +30,14 @@ tag=$(basename "$model" .yaml)
 bin=${ISOFLEX:-$root/build/isoflex}
 work=${WORK:-$root/out/large_shells}
 ranks=${RANKS:-1}
+read -r probe component < <(sed -n 's/^# measure: probe //p' "$here/$model"; echo free_edge y)
+if [[ $kind == nonlinear ]] && ! grep -q -- '-90\*t' "$here/$model"; then
+  echo "measure.sh: $model has no self-weight -90*t to scale: linear only" >&2
+  exit 2
+fi
 mkdir -p "$work"
 printf "%-8s %-13s %-9s %5s %9s %9s %9s %6s %7s %s\n" k solver kind ranks unknowns process_s solve_s CG \
-  peak_GB u_y
+  peak_GB "u_$component"
 for k in $sizes; do
   for s in $solvers; do
     f="$work/${tag}_${k}_${s}_${kind}.yaml"
@@ -48,16 +59,16 @@ for k in $sizes; do
       /usr/bin/time -f "%e %M" -o "$out.time" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
       read -r wall kb < "$out.time"
     fi
-    python3 - "$out/summary.json" "$k" "$s" "$kind" "$wall" "$kb" "$ranks" <<'PY'
+    python3 - "$out/summary.json" "$k" "$s" "$kind" "$wall" "$kb" "$ranks" "$probe" "$component" <<'PY'
 import json, sys
-path, k, s, kind, wall, kb, ranks = sys.argv[1:]
+path, k, s, kind, wall, kb, ranks, probe, component = sys.argv[1:]
 try:
     d = json.load(open(path))
 except Exception:
     print(f"{k:<8} {s:<13} {kind:<9} failed (see the .log)"); sys.exit()
-u = d["probes"]["free_edge"]["displacement"][1]
+u = d["probes"][probe]["displacement"]["xyz".index(component)]
 print(f"{k:<8} {s:<13} {kind:<9} {ranks:>5} {d['n_unknowns']:9d} {float(wall):9.1f} {d['wall_time_s']:9.1f} "
-      f"{d.get('krylov_iterations_total', 0):6d} {int(kb)/2**20:7.2f} {u:.10f}")
+      f"{d.get('krylov_iterations_total', 0):6d} {int(kb)/2**20:7.2f} {u:.10g}")
 PY
   done
 done
