@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -120,6 +121,92 @@ TEST(SaddlePointSolver, KeepsTheAnalysisForNewValuesOnTheSamePattern) {
     EXPECT_LT(relative_difference(solver.solve(b), s->dense.fullPivLu().solve(b)), 1e-10);
   }
   EXPECT_EQ(solver.analyses(), 1);
+}
+
+// Â = A + Bᵀ W B (w_i = −1/Z_ii on the compliant and fixed rows, ρ_i on the hard ones), its
+// pattern A's and every pair of columns of a row of B (whatever the values: a zero of B keeps
+// its place), merged column by column without a map of A's values; new values on the same
+// pattern go into the same arrays (PETSc keeps them, docs/theory/solvers.md §5).
+TEST(SaddlePointSolver, AugmentedMatrixIsAPlusBtWBOnAFixedPattern) {
+  Saddle s = make_saddle(30, 6, 3, 2, 0.0, 11);
+  const int p = s.p, m = static_cast<int>(s.dense.rows()) - p;
+  s.dense(p + 1, 3) = s.dense(3, p + 1) = 0.0;  // a zero of B: Â keeps its pairs
+  SpMat M = s.sparse();
+  M.coeffRef(p + 1, 3) = 0.0;  // stored zeros
+  M.coeffRef(3, p + 1) = 0.0;
+  M.makeCompressed();
+  const auto expected = [&](const MatX& dense, const VecX& hard_w) {
+    MatX A = dense.topLeftCorner(p, p);
+    for (int i = 0, h = 0; i < m; ++i) {
+      const double z = dense(p + i, p + i);
+      const double w = z != 0.0 ? -1.0 / z : hard_w(h++);
+      A += w * dense.row(p + i).head(p).transpose() * dense.row(p + i).head(p);
+    }
+    return A;
+  };
+  SaddlePointSolver solver;
+  solver.augment(M, p);
+  const SpMat& Ahat = solver.augmented_matrix();
+  ASSERT_EQ(solver.hard_weights().size(), 6);
+  const MatX A1 = expected(s.dense, solver.hard_weights());
+  EXPECT_LT((MatX(Ahat) - A1).cwiseAbs().maxCoeff(), 1e-12 * A1.cwiseAbs().maxCoeff());
+  // The pattern: A's entries, and the pairs of columns of each row of B, stored zeros included.
+  MatX pattern = MatX::Zero(p, p);
+  for (int j = 0; j < p; ++j)
+    for (SpMat::InnerIterator it(M, j); it; ++it)
+      if (it.row() < p) pattern(it.row(), j) = 1.0;
+  for (int i = p; i < p + m; ++i) {
+    std::vector<int> cols;
+    for (int j = 0; j < p; ++j)
+      if (M.coeff(i, j) != 0.0 || (i == p + 1 && j == 3)) cols.push_back(j);
+    for (int a : cols)
+      for (int b : cols) pattern(a, b) = 1.0;
+  }
+  EXPECT_EQ(Ahat.nonZeros(), static_cast<Eigen::Index>(pattern.sum()));
+  for (int j = 0; j < p; ++j)
+    for (SpMat::InnerIterator it(Ahat, j); it; ++it) EXPECT_EQ(pattern(it.row(), j), 1.0);
+  // New values, the same pattern: the same arrays, the new Â.
+  const double* values = Ahat.valuePtr();
+  const int* inner = Ahat.innerIndexPtr();
+  Saddle s2 = s;
+  s2.dense.topLeftCorner(p, p) *= 2.5;
+  SpMat M2 = M;
+  for (int j = 0; j < p; ++j)
+    for (SpMat::InnerIterator it(M2, j); it; ++it)
+      if (it.row() < p) it.valueRef() *= 2.5;
+  solver.augment(M2, p);
+  EXPECT_EQ(solver.augmented_matrix().valuePtr(), values);
+  EXPECT_EQ(solver.augmented_matrix().innerIndexPtr(), inner);
+  const MatX A2 = expected(s2.dense, solver.hard_weights());
+  EXPECT_LT((MatX(solver.augmented_matrix()) - A2).cwiseAbs().maxCoeff(),
+            1e-12 * A2.cwiseAbs().maxCoeff());
+}
+
+// A caller that names M's patterns (the static solver's pattern version): the same key takes
+// the pattern as it is (no copy of it kept) and fills the new values; a new key, a new pattern.
+TEST(SaddlePointSolver, AugmentsByThePatternKeyOfTheCaller) {
+  const Saddle s1 = make_saddle(30, 6, 3, 2, 0.0, 13);
+  Saddle s2 = s1;
+  s2.dense.topLeftCorner(s2.p, s2.p) *= 0.5;  // new values, the same pattern
+  Saddle s3 = make_saddle(30, 6, 3, 2, 0.0, 14);
+  s3.dense(s3.p + 2, 17) = s3.dense(17, s3.p + 2) = 0.25;  // another pattern
+  SaddlePointSolver keyed, compared;
+  const std::vector<std::pair<const Saddle*, long>> calls{{&s1, 1}, {&s2, 1}, {&s3, 2}};
+  const double* first_values = nullptr;
+  for (const auto& [s, key] : calls) {
+    const SpMat M = s->sparse();
+    keyed.augment(M, s->p, key);
+    compared.augment(M, s->p);
+    const SpMat& A = keyed.augmented_matrix();
+    const SpMat& B = compared.augmented_matrix();
+    ASSERT_EQ(A.nonZeros(), B.nonZeros()) << key;
+    EXPECT_TRUE(std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), B.innerIndexPtr()));
+    EXPECT_TRUE(std::equal(A.valuePtr(), A.valuePtr() + A.nonZeros(), B.valuePtr()));
+    if (s == &s1) first_values = A.valuePtr();
+    if (s == &s2) {
+      EXPECT_EQ(A.valuePtr(), first_values);  // the same arrays
+    }
+  }
 }
 
 TEST(SaddlePointSolver, RefusesWhatTheStaticSolverMustSolveOtherwise) {

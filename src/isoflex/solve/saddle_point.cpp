@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,20 +27,26 @@ struct SaddlePointSolver::Impl {
   const SpMat* M = nullptr;  // the last factorized (the caller keeps it)
   double norm_M = 0.0;
 
-  // For M's pattern (kept_outer, kept_inner at primal size kept_p): where the values of M go.
+  // For M's pattern (kept_outer, kept_inner at primal size kept_p and kept_nonzeros; or, for a
+  // caller that names its patterns, kept_key alone): where the values of M go. The A block's
+  // values go to Â by a merge of the sorted columns (Â's column j holds A's), no map: at 10⁶
+  // unknowns a map of A's values to Â's was two int arrays of nnz(A), 1.2 GB.
   std::vector<int> kept_outer, kept_inner;
-  int kept_p = -1;
-  std::vector<int> a_source, a_target;  // M's A-block value → Â's value
-  std::vector<int> b_source;            // B's value k ← M's value b_source[k]
-  std::vector<int> diag_source;         // M's value of A_jj per primal column (−1: none)
-  std::vector<int> z_source;            // M's value of Z_ii per row (−1: none)
+  int kept_p = -1, kept_n = -1;
+  Eigen::Index kept_nonzeros = -1;
+  std::optional<long> kept_key;
+  std::vector<int> b_source;     // B's value k ← M's value b_source[k]
+  std::vector<int> diag_source;  // M's value of A_jj per primal column (−1: none)
+  std::vector<int> z_source;     // M's value of Z_ii per row (−1: none)
   // Row i of B: its entries row_entries[row_start[i] … row_start[i+1]) as (M's value, column),
   // and the values of Â that the products of pairs of them add to (row-major pairs).
   std::vector<int> row_start;
   std::vector<std::pair<int, int>> row_entries;
   std::vector<int> pair_target;
 
-  bool same_pattern(const SpMat& Mref) const {
+  bool same_pattern(const SpMat& Mref, std::optional<long> key) const {
+    if (key || kept_key)
+      return key == kept_key && kept_p == p && kept_n == n && kept_nonzeros == Mref.nonZeros();
     return kept_p == p && kept_outer.size() == static_cast<std::size_t>(n + 1) &&
            kept_inner.size() == static_cast<std::size_t>(Mref.nonZeros()) &&
            std::equal(kept_outer.begin(), kept_outer.end(), Mref.outerIndexPtr()) &&
@@ -47,13 +54,14 @@ struct SaddlePointSolver::Impl {
   }
 
   // The maps above and the patterns of B and Â (Â: A's pattern and every pair of columns of a
-  // row of B, whatever its values, so that it stays fixed); throws if Z is not diagonal.
-  void build_maps(const SpMat& Mref) {
+  // row of B, whatever its values, so that it stays fixed); throws if Z is not diagonal. Â's
+  // pattern is merged column by column from A's and the pairs' (no triplets: at 10⁶ unknowns
+  // the triplets of A's pattern and setFromTriplets' transposed copy were 4 GB at once).
+  void build_maps(const SpMat& Mref, std::optional<long> key) {
     const int m = n - p;
     const int* outer = Mref.outerIndexPtr();
     const int* inner = Mref.innerIndexPtr();
-    std::vector<Eigen::Triplet<double>> a_trip, b_trip;
-    a_source.clear();
+    std::vector<Eigen::Triplet<double>> b_trip;
     b_source.clear();
     diag_source.assign(static_cast<std::size_t>(p), -1);
     z_source.assign(static_cast<std::size_t>(m), -1);
@@ -68,8 +76,6 @@ struct SaddlePointSolver::Impl {
           z_source[static_cast<std::size_t>(i - p)] = k;
         } else if (i < p) {
           if (i == j) diag_source[static_cast<std::size_t>(j)] = k;
-          a_source.push_back(k);
-          a_trip.emplace_back(i, j, 0.0);
         } else {
           b_source.push_back(k);
           b_trip.emplace_back(i - p, j, 0.0);
@@ -83,31 +89,86 @@ struct SaddlePointSolver::Impl {
     for (const auto& r : rows) {
       row_entries.insert(row_entries.end(), r.begin(), r.end());
       row_start.push_back(static_cast<int>(row_entries.size()));
-      for (const auto& [ka, ja] : r)
-        for (const auto& [kb, jb] : r) a_trip.emplace_back(ja, jb, 0.0);
     }
+    // The rows of Â's column j that the pairs add: extra_rows[extra_start[j] … extra_start[j+1]),
+    // sorted and unique.
+    std::vector<int> extra_start(static_cast<std::size_t>(p) + 1, 0), extra_rows;
+    for (const auto& r : rows)
+      for (const auto& [ka, ja] : r)
+        extra_start[static_cast<std::size_t>(ja) + 1] += static_cast<int>(r.size());
+    for (int j = 0; j < p; ++j)
+      extra_start[static_cast<std::size_t>(j) + 1] += extra_start[static_cast<std::size_t>(j)];
+    extra_rows.resize(static_cast<std::size_t>(extra_start[static_cast<std::size_t>(p)]));
+    {
+      std::vector<int> fill(extra_start.begin(), extra_start.end() - 1);
+      for (const auto& r : rows)
+        for (const auto& [ka, ja] : r)
+          for (const auto& [kb, jb] : r)
+            extra_rows[static_cast<std::size_t>(fill[static_cast<std::size_t>(ja)]++)] = jb;
+    }
+    rows = {};
+    std::vector<int> extra_end(static_cast<std::size_t>(p));
+    for (int j = 0; j < p; ++j) {
+      const auto begin = extra_rows.begin() + extra_start[static_cast<std::size_t>(j)];
+      const auto end = extra_rows.begin() + extra_start[static_cast<std::size_t>(j) + 1];
+      std::sort(begin, end);
+      extra_end[static_cast<std::size_t>(j)] =
+          static_cast<int>(std::unique(begin, end) - extra_rows.begin());
+    }
+    // Â's pattern: per column the union of A's rows (M's column j below p, sorted) and the
+    // extra rows; counted first, then written into Â's arrays in place.
+    const auto merge = [&](int j, auto&& row) {
+      int k = outer[j];
+      const int k_end = outer[j + 1];
+      int e = extra_start[static_cast<std::size_t>(j)];
+      const int e_end = extra_end[static_cast<std::size_t>(j)];
+      while (true) {
+        const int a = k < k_end && inner[k] < p ? inner[k] : p;
+        const int b = e < e_end ? extra_rows[static_cast<std::size_t>(e)] : p;
+        if (a == p && b == p) break;
+        const int i = std::min(a, b);
+        row(i);
+        if (a == i) ++k;
+        if (b == i) ++e;
+      }
+    };
     Ahat.resize(p, p);
-    Ahat.setFromTriplets(a_trip.begin(), a_trip.end());
     Ahat.makeCompressed();
+    int* a_outer = Ahat.outerIndexPtr();
+    a_outer[0] = 0;
+    for (int j = 0; j < p; ++j) {
+      int count = 0;
+      merge(j, [&](int) { ++count; });
+      a_outer[j + 1] = a_outer[j] + count;
+    }
+    Ahat.resizeNonZeros(a_outer[p]);
+    int* a_inner = Ahat.innerIndexPtr();
+    for (int j = 0; j < p; ++j) {
+      int t = Ahat.outerIndexPtr()[j];
+      merge(j, [&](int i) { a_inner[t++] = i; });
+    }
     const auto position = [&](int i, int j) {
       const int* begin = Ahat.innerIndexPtr() + Ahat.outerIndexPtr()[j];
       const int* end = Ahat.innerIndexPtr() + Ahat.outerIndexPtr()[j + 1];
       return static_cast<int>(std::lower_bound(begin, end, i) - Ahat.innerIndexPtr());
     };
-    a_target.clear();
-    for (int k : a_source) {
-      const int j = static_cast<int>(std::upper_bound(outer, outer + n + 1, k) - outer) - 1;
-      a_target.push_back(position(inner[k], j));
-    }
     pair_target.clear();
     for (std::size_t r = 0; r + 1 < row_start.size(); ++r)
       for (int a = row_start[r]; a < row_start[r + 1]; ++a)
         for (int b = row_start[r]; b < row_start[r + 1]; ++b)
           pair_target.push_back(position(row_entries[static_cast<std::size_t>(a)].second,
                                          row_entries[static_cast<std::size_t>(b)].second));
-    kept_outer.assign(outer, outer + n + 1);
-    kept_inner.assign(inner, inner + Mref.nonZeros());
+    if (key) {  // the caller's name for the pattern: no copy of it (nnz(M) ints)
+      std::vector<int>().swap(kept_outer);
+      std::vector<int>().swap(kept_inner);
+    } else {
+      kept_outer.assign(outer, outer + n + 1);
+      kept_inner.assign(inner, inner + Mref.nonZeros());
+    }
+    kept_key = key;
     kept_p = p;
+    kept_n = n;
+    kept_nonzeros = Mref.nonZeros();
   }
 
   // B's, Z's and Â's values and W from M's values; throws if a hard row is empty.
@@ -141,9 +202,20 @@ struct SaddlePointSolver::Impl {
       w(i) = options.penalty_factor * diag / norm2;
       hard.push_back(i);
     }
+    // A's values into Â's pattern (Â's column j holds A's rows, both sorted), zeros elsewhere.
     double* av = Ahat.valuePtr();
-    std::fill(av, av + Ahat.nonZeros(), 0.0);
-    for (std::size_t k = 0; k < a_source.size(); ++k) av[a_target[k]] += v[a_source[k]];
+    const int* outer = Mref.outerIndexPtr();
+    const int* inner = Mref.innerIndexPtr();
+    const int* a_outer = Ahat.outerIndexPtr();
+    const int* a_inner = Ahat.innerIndexPtr();
+    for (int j = 0; j < p; ++j) {
+      int k = outer[j];
+      for (int t = a_outer[j]; t < a_outer[j + 1]; ++t)
+        if (k < outer[j + 1] && inner[k] == a_inner[t])
+          av[t] = 0.0 + v[k++];  // as the sum into zeros it replaces (−0 → +0)
+        else
+          av[t] = 0.0;
+    }
     std::size_t pair = 0;
     for (int i = 0; i < m; ++i) {
       const int begin = row_start[static_cast<std::size_t>(i)];
@@ -280,6 +352,10 @@ void SaddlePointSolver::factorize(const SpMat& M, int p) {
 }
 
 void SaddlePointSolver::augment(const SpMat& M, int p) {
+  augment(M, p, std::nullopt);
+}
+
+void SaddlePointSolver::augment(const SpMat& M, int p, std::optional<long> pattern_key) {
   Impl& s = *impl_;
   const int n = static_cast<int>(M.rows());
   if (M.cols() != n || p < 0 || p > n || !M.isCompressed())
@@ -288,7 +364,7 @@ void SaddlePointSolver::augment(const SpMat& M, int p) {
   s.n = n;
   s.p = p;
   s.M = &M;
-  if (!s.same_pattern(M)) s.build_maps(M);
+  if (!s.same_pattern(M, pattern_key)) s.build_maps(M, pattern_key);
   s.fill_values(M);
   s.stats.hard_rows = static_cast<int>(s.hard.size());
   s.norm_M = 0.0;

@@ -23,6 +23,7 @@
 // The compliant rows' multipliers follow from λ_S = (b_S − B_S x)/Z_S.
 #include <Eigen/SparseCore>
 #include <memory>
+#include <optional>
 
 #include "isoflex/math/types.hpp"
 
@@ -68,6 +69,10 @@ class SaddlePointSolver {
   // PETSc path of integrate/static_newton.cpp, docs/theory/solvers.md §5): forms Â, B and W from
   // M (kept by reference) as factorize does, with the same exceptions but no factorization.
   void augment(const SpMat& M, int p);
+  // The same for a caller that names M's patterns: `pattern_key` equal to the last call's (and
+  // the same sizes and number of entries) means the same pattern, not compared, and the solver
+  // keeps no copy of it (nnz(M) ints; 0.6 GB at 10⁶ unknowns). A new pattern needs a new key.
+  void augment(const SpMat& M, int p, std::optional<long> pattern_key);
   // Â (p × p, symmetric, compressed; its pattern is kept while M's is, its arrays in place).
   const SpMat& augmented_matrix() const;
   // B_H (the hard rows, h × p, in compressed rows) and their weights w_H of the last augment.
