@@ -83,7 +83,9 @@ struct StaticNewtonSolver::Impl {
     double w;
   };
   std::vector<TiedEntry> tied_entries;
-  std::vector<double> base_values;  // A's values with the C blocks, zeros for K
+  // A's values that K does not give (the C blocks, the implied rows' 1), as (index, value); the
+  // others start at zero. Not a copy of all of A's values: nnz doubles, 1.2 GB at 10⁶ unknowns.
+  std::vector<std::pair<int, double>> base_entries;
   SpMat A;
   bool have_reduction = false;
 
@@ -174,7 +176,10 @@ struct StaticNewtonSolver::Impl {
     A.resize(nf + m, nf + m);
     A.setFromTriplets(trip.begin(), trip.end());
     A.makeCompressed();
-    base_values.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
+    base_entries.clear();
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
+        if (j >= nf || A.innerIndexPtr()[k] >= nf) base_entries.emplace_back(k, A.valuePtr()[k]);
     value_map.assign(static_cast<std::size_t>(K.nonZeros()), -1);
     tied_entries.clear();
     for_each_entry([&](int k, int fi, int fj, double w) {
@@ -208,7 +213,8 @@ struct StaticNewtonSolver::Impl {
     if (!K.isCompressed()) K.makeCompressed();
     if (!same_pattern(K)) build_reduction(K);
     double* a = A.valuePtr();
-    std::copy(base_values.begin(), base_values.end(), a);
+    std::fill(a, a + A.nonZeros(), 0.0);
+    for (const auto& [k, value] : base_entries) a[k] = value;
     const double* kv = K.valuePtr();
     for (std::size_t k = 0; k < value_map.size(); ++k)
       if (value_map[k] >= 0) a[value_map[k]] += kv[k];
@@ -359,7 +365,8 @@ struct StaticNewtonSolver::Impl {
     const double rtol = std::exchange(krylov_rtol, kKrylovTightTolerance);
     const double atol = std::exchange(krylov_atol, 0.0);
     solve::SaddlePointSolver& saddle = krylov_saddle;
-    saddle.augment(M, nf_configuration);
+    // M's pattern changes with pattern_version alone (build_reduction): no copy of it kept.
+    saddle.augment(M, nf_configuration, pattern_version);
     const SpMat& Ahat = saddle.augmented_matrix();
     const Eigen::SparseMatrix<double, Eigen::RowMajor> BH = saddle.hard_rows();
     const VecX schur = -saddle.hard_weights().cwiseInverse();
@@ -475,6 +482,11 @@ struct StaticNewtonSolver::Impl {
       throw std::invalid_argument(
           fmt::format("StaticProblem: residual has {} entries, expected {}", ev.r.size(), n));
     if (with_tangent) assemble_matrix();
+    // A linear problem needs K again only at its next load step, which evaluates it anew: its
+    // storage (nnz doubles and ints, 1.7 GB at 10⁶ unknowns) is released while the Newton matrix
+    // is solved (the solver's set-up is the peak of the run), and the evaluation writes the
+    // pattern back in (the same pattern: the reduction's maps are kept).
+    if (with_tangent && problem.linear) SpMat().swap(ev.K);  // (resize would keep it)
     st.assembly_seconds += seconds_since(t0);
   }
 
