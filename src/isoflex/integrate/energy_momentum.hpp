@@ -73,8 +73,9 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
  private:
   struct StepContext;
   StepContext context(const State& s, double dt) const;
-  // Newton start values: qₙ + Δt vₙ (λₙ, the last u with the director velocities), qₙ (u = 0),
-  // or the secant qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u).
+  // Newton start values: qₙ + Δt vₙ with the directors turned as in the last step (λₙ; the last
+  // u with the free nodes' positions moved by Δt vₙ), qₙ (u = 0), or the secant
+  // qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u).
   enum class Predictor { extrapolated, at_rest, secant };
   VecX start_unknowns(const State& s, double dt, Predictor p) const;
   void secant_directors(const State& s, double ratio, VecX& x) const;

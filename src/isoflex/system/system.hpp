@@ -306,15 +306,14 @@ class System {
   // The same into q, with `step` (the nodes' rotations over the step) as workspace: no heap
   // allocation once both have their sizes (a Newton iteration).
   void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const;
-  // The coordinates that are rotations, for the trust region of a time step's Newton corrections
-  // (integrate/energy_momentum.cpp): of q, the directors of frame and director nodes; of the tree
-  // coordinates ν, the rotation increments of free frames and directors and the joint velocities
-  // that turn the child (a column of the freedom block with an angular part, at q₀).
-  const std::vector<int>& rotation_coordinates() const { return rotation_q_; }
+  // The tree coordinates ν that are rotations, for the trust region of a reparametrized Newton
+  // correction (integrate/energy_momentum.cpp): the rotation increments of free frames and
+  // directors and the joint velocities that turn the child (a column of the freedom block with
+  // an angular part, at q₀).
   const std::vector<int>& rotation_tree_coordinates() const { return rotation_nu_; }
   // Overwrites the entries of u that belong to free nodes whose kind extrapolates a step at
-  // constant velocity (NodeType::extrapolate; a director node's last increments are in the
-  // tangent basis of the last step, which may differ).
+  // constant velocity (NodeType::extrapolate: a director node its position only, its rotation
+  // keeps the last step's increments).
   void extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const;
   // The increments u of a step from qn to q1 rewritten in the bases of q1, for the free nodes
   // (NodeType::transport_increments).
@@ -502,7 +501,7 @@ class System {
   std::vector<int> tree_order_;  // joint indices, parents before children
   std::vector<int> roots_;
   std::vector<int> root_nu_offset_;
-  std::vector<int> rotation_q_, rotation_nu_;
+  std::vector<int> rotation_nu_;
   std::vector<int> selected_rows_, cut_rows_, redundant_rows_;
   VecX selected_compliance_;
   std::vector<ReselectedGroup> reselected_groups_;

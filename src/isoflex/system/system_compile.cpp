@@ -989,19 +989,6 @@ void System::add_joint_instances(Build& build) {
 }
 
 void System::mark_rotations() {
-  const auto directors = [&](int node) {
-    switch (node_kind(node)) {
-      case NodeKind::frame:
-        return 9;
-      case NodeKind::director:
-        return 3;
-      case NodeKind::point:
-        return 0;
-    }
-    return 0;
-  };
-  for (int i = 0; i < static_cast<int>(nodes_.size()); ++i)
-    for (int c = 0; c < directors(i); ++c) rotation_q_.push_back(q_offset(i) + 3 + c);
   for (std::size_t r = 0; r < roots_.size(); ++r)
     for (int c = 3; c < root_width_[r]; ++c) rotation_nu_.push_back(root_nu_offset_[r] + c);
   for (int j : tree_order_) {
