@@ -155,6 +155,45 @@ TEST(DirectorShellElement, DiscreteGradientDerivativeMatchesFiniteDifferences) {
   RecordProperty("worst_dv_dqn1_fd", sci(worst));
 }
 
+// The mixed integration point tangent (docs/theory/schemes.md §6): the same force; linearized at
+// qₙ₊₁ itself it is the exact ∂DV/∂qₙ₊₁ with no stress force; linearized at a point at distance
+// ε it differs from it by O(ε²) (Ê − E(qₙ₊₁) = −½ ΔqᵀHΔq, E quadratic); at a Newton start it
+// takes the stresses of the strains at qₙ.
+TEST(DirectorShellElement, MixedTangentIsTheExactOneUpToTheSquareOfTheLinearizationDistance) {
+  Fixture f;
+  for (const DirectorShellElement* e : {&f.ans, &f.plain}) {
+    for (int trial = 0; trial < 3; ++trial) {
+      const VecX qn = f.deformed(trial), qn1 = f.deformed(trial + 1);
+      MatX K;
+      const VecX dv = e->discrete_gradient(qn, qn1, &K);
+      Mat<24, 24> Km;
+      VecX stress_force;
+      const VecX dvm =
+          e->mixed_discrete_gradient_in_pattern(qn, qn1, &qn1, Km.data(), &stress_force);
+      EXPECT_LT((dvm - dv).norm(), 1e-14 * f.force_scale) << trial;
+      EXPECT_LT(rel_diff(MatX(Km), K), 1e-14) << trial;
+      EXPECT_LT(stress_force.norm(), 1e-14 * f.force_scale) << trial;
+      const VecX dir = random_vector(f.g, 24, 0.1);
+      double diff[2];
+      for (int h = 0; h < 2; ++h) {
+        const VecX ql = qn1 + (h ? 0.5 : 1.0) * dir;
+        e->mixed_discrete_gradient_in_pattern(qn, qn1, &ql, Km.data(), &stress_force);
+        diff[h] = (MatX(Km) - K).norm();
+      }
+      EXPECT_GT(diff[1], 0.0) << trial;
+      EXPECT_NEAR(diff[0] / diff[1], 4.0, 0.1) << trial;  // O(ε²)
+      // At a start Ê = E(qₙ): exact where qₙ₊₁ has qₙ's strains, a rigid motion of it.
+      const VecX moved = rigid_motion(qn, rodrigues(Vec3(0.3, -0.2, 0.5)), Vec3(0.1, 0.2, -0.3));
+      e->discrete_gradient(qn, moved, &K);
+      e->mixed_discrete_gradient_in_pattern(qn, moved, nullptr, Km.data(), nullptr);
+      EXPECT_LT(rel_diff(MatX(Km), K), 1e-12) << trial;
+      e->mixed_discrete_gradient_in_pattern(qn, qn1, nullptr, Km.data(), nullptr);
+      e->discrete_gradient(qn, qn1, &K);
+      EXPECT_GT(rel_diff(MatX(Km), K), 1e-6) << trial;
+    }
+  }
+}
+
 // DV·(qₙ₊₁ − qₙ) = V(qₙ₊₁) − V(qₙ), relative to the size of the energies involved.
 TEST(DirectorShellElement, DiscreteGradientPropertyToRoundOff) {
   Fixture f;

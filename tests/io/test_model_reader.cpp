@@ -349,8 +349,8 @@ TEST(ModelReader, UnknownKey) {
       error_of(with_bodies({"solver:", "  dt: 0.1", "  tolerance: 1e-3"})),
       "m.yaml:8: solver.tolerance: unknown key (valid keys: analysis, formulation, integrator, "
       "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
-      "increment_tolerance, max_iterations, max_rotation_correction, max_subdivisions, linear, "
-      "initial_equilibrium, "
+      "increment_tolerance, max_iterations, max_rotation_correction, mixed_tangent, "
+      "max_subdivisions, linear, initial_equilibrium, "
       "path_following, cosimulation, saddle_point_solver, linear_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
@@ -579,6 +579,14 @@ TEST(ModelReader, SolverNumericalDissipation) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  numerical_dissipation: 0.1"})),
             "m.yaml:7: solver.numerical_dissipation: acts on the strains of beams and director "
             "shells, and the model has none");
+}
+
+TEST(ModelReader, SolverMixedTangent) {
+  EXPECT_TRUE(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.mixed_tangent);
+  EXPECT_FALSE(read_model_string(with_bodies({"solver: {mixed_tangent: false}"}), "m.yaml")
+                   .solver.mixed_tangent);
+  EXPECT_NE(error_of(with_bodies({"solver: {mixed_tangent: 2}"})).find("solver.mixed_tangent"),
+            std::string::npos);
 }
 
 TEST(ModelReader, SolverMaxRotationCorrection) {

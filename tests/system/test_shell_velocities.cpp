@@ -65,7 +65,9 @@ void expect_rigid_start_and_conservation(const std::string& yaml, double h) {
   for (int i = 0; i < 40; ++i) integ.step(s);
   const integrate::Snapshot last = integ.snapshot(s, {}, {});
   EXPECT_NEAR(last.total_energy, first.total_energy, 1e-12 * T);
-  EXPECT_LT((last.linear_momentum - first.linear_momentum).norm(), 1e-13 * kMass);
+  // Where Newton stops (the increment test, 10⁻¹¹) sets the last digits: 1.0·10⁻¹² with the exact
+  // tangent, 2.4·10⁻¹² with the mixed one (director plate, measured).
+  EXPECT_LT((last.linear_momentum - first.linear_momentum).norm(), 2e-13 * kMass);
   EXPECT_LT((last.angular_momentum - first.angular_momentum).norm(),
             1e-12 * first.angular_momentum.norm());
 }

@@ -370,6 +370,33 @@ VecX DirectorShellElement::discrete_gradient(const VecX& qnx, const VecX& qn1x,
   return dv;
 }
 
+VecX DirectorShellElement::mixed_discrete_gradient_in_pattern(const VecX& qnx, const VecX& qn1x,
+                                                              const VecX* q_lin, double* values,
+                                                              VecX* stress_force) const {
+  const Q qn = as_element_q(qnx);
+  const Q qn1 = as_element_q(qn1x);
+  const Jacobian Bn = strain_jacobian(qn);
+  const Jacobian Bn1 = strain_jacobian(qn1);
+  const Jacobian Bm = 0.5 * (Bn + Bn1);
+  const Strains en = 0.5 * Bn * qn;  // E(qₙ) + E⁰ (B(q) q = 2(E(q) + E⁰), E quadratic)
+  const Strains S = stresses(0.5 * (en + 0.5 * Bn1 * qn1) - e0_);
+  const Q dv = Bm.transpose() * S + gravity_gradient();
+  if (!values && !stress_force) return dv;
+  Strains e_hat = en;  // Ê + E⁰
+  if (q_lin) {
+    const Q ql = as_element_q(*q_lin);
+    const Jacobian Bl = strain_jacobian(ql);
+    e_hat = Bl * qn1 - 0.5 * Bl * ql;  // E(q_l) + B(q_l)(qₙ₊₁ − q_l) + E⁰
+  }
+  const Strains S_hat = stresses(0.5 * (en + e_hat) - e0_);
+  if (stress_force) *stress_force = Bm.transpose() * (S_hat - S);
+  if (values) {
+    Eigen::Map<Mat<kCoords, kCoords>> K(values);
+    K = 0.5 * (weighted_strain_hessian(S_hat) + material_stiffness(Bm, Bn1));
+  }
+  return dv;
+}
+
 VecX DirectorShellElement::strain_dissipation_force_in_pattern(const VecX& q_prevx, const VecX& qnx,
                                                                const VecX& qn1x, double chi,
                                                                double ratio, double* values) const {

@@ -53,6 +53,10 @@ class DirectorShellElement final : public Element {
   VecX gradient(const VecX& q) const override;  // 24
   // Average-strain discrete gradient (docs/theory/shell.md §5), 24 (+ 24 × 24, not symmetric).
   VecX discrete_gradient(const VecX& qn, const VecX& qn1, MatX* dv_dqn1) const override;
+  // Ê on every strain of every Gauss point (assumed strains included); the tangent
+  // ½ Σ_k Ŝ_k H_k + ½ B(q_{n+½})ᵀ C B(qₙ₊₁) with Ŝ = C ½(E(qₙ) + Ê).
+  VecX mixed_discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, const VecX* q_lin,
+                                          double* values, VecX* stress_force) const override;
   MatX mass() const override;  // 24 × 24, constant, consistent
   // Kelvin–Voigt viscous force f_v = B(q)ᵀ η C B(q) q̇ over the Gauss points (the strain rates
   // with the stiffnesses times η, assumed strains included; docs/theory/shell.md §11); B linear in

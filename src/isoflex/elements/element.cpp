@@ -18,6 +18,12 @@ VecX Element::discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, doub
   return dv;
 }
 
+VecX Element::mixed_discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, const VecX*,
+                                                 double* values, VecX* stress_force) const {
+  if (stress_force) stress_force->setZero(qn.size());
+  return discrete_gradient_in_pattern(qn, qn1, values);
+}
+
 VecX Element::gradient_in_pattern(const VecX& q, double* values) const {
   const VecX g = discrete_gradient_in_pattern(q, q, values);
   if (values)

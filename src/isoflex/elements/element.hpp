@@ -46,6 +46,17 @@ class Element {
   // discrete_gradient with ∂DV/∂qₙ₊₁ written into `values` (pattern().nonZeros() entries, the
   // pattern's storage order) when values is not null.
   virtual VecX discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1, double* values) const;
+  // The mixed integration point Newton iteration (docs/theory/schemes.md §6): DV(qₙ, qₙ₊₁) as
+  // discrete_gradient_in_pattern, with the stresses of the tangent's geometric part (the terms
+  // that multiply stresses by second derivatives of strains) taken from estimated strains Ê
+  // instead of E(qₙ₊₁): Ê = E(q_lin) + B(q_lin)(qₙ₊₁ − q_lin), the strains linearized at the last
+  // iterate q_lin, or Ê = E(qₙ) at a Newton start (q_lin null). stress_force (if not null)
+  // receives the force of those stresses less DV's (what the multiplier estimate of the reduced
+  // formulations uses). The root is the same; only the Newton path changes. Default: no
+  // geometric part of that kind, discrete_gradient_in_pattern and a zero stress_force.
+  virtual VecX mixed_discrete_gradient_in_pattern(const VecX& qn, const VecX& qn1,
+                                                  const VecX* q_lin, double* values,
+                                                  VecX* stress_force) const;
   // The gradient ∇V(q) with the tangent ∇²V(q) written into `values` (pattern order) when values
   // is not null: statics and the DAE integrators. Default: DV(q, q) and 2 ∂DV/∂qₙ₊₁(q, q), exact
   // for a discrete gradient symmetric in its arguments, DV(a, b) = DV(b, a) (the average-strain

@@ -25,6 +25,9 @@ struct EnergyMomentumIntegrator::StepContext {
   double dt, t_mid;
   // Loop-closing rows: range W and null space U of (G_cut P_tree)ᵀ at q_n (DNSM-III (12)).
   MatX W, U;
+  // The Newton matrices of a step's iteration with the mixed tangent (model::Solver::mixed_tangent;
+  // residual() keeps the exact derivative).
+  bool mixed = false;
 };
 
 namespace {
@@ -115,7 +118,7 @@ State EnergyMomentumIntegrator::initial_state() const {
 
 EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const State& s,
                                                                         double dt) const {
-  StepContext c{&s, dt, s.t + 0.5 * dt, {}, {}};
+  StepContext c{&s, dt, s.t + 0.5 * dt, {}, {}, false};
   if (settings_.formulation != F::constrained && !sys_.cut_rows().empty()) {
     const MatX Gc = MatX(sys_.jacobian_rows(s.q, sys_.cut_rows()) * sys_.tree_null_space(s.q));
     solve::qr_range_and_null_space(Gc, c.W, c.U);
@@ -245,6 +248,7 @@ const VecX& EnergyMomentumIntegrator::evaluate(const StepContext& c, const VecX&
     return blocks_->evaluate(c.s->q, c.s->v, x, c.dt, c.t_mid, normal_equations_,
                              NJ ? &NJ->A : nullptr, start ? &c.s->lambda : nullptr);
   }
+  if (start) have_last_iterate_ = false;
   residual_ = evaluate_assembled(c, x, NJ, bordered);
   return residual_;
 }
@@ -259,13 +263,28 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
   const VecX qm = 0.5 * (s.q + q1);
   const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
   SpMat Kf;
-  VecX f = sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
+  // The mixed integration point Newton iteration (docs/theory/schemes.md §6): the geometric part
+  // of Kf with the stresses of the strains linearized at the last iterate (qₙ's at a start), and
+  // λ̂ of the reduced matrices from the momentum balance at those stresses, r̂₀. Thin shells'
+  // membrane strains are quadratic in rotations that a correction gets wrong by a little: their
+  // stresses at the new iterate, 12/h² times the bending ones, are far off where the linearized
+  // ones are not (intersecting shells: 2 mm plates).
+  const bool mixed = c.mixed && J;
+  VecX stress_force;
+  VecX f = mixed ? sys_.mixed_discrete_force(s.q, q1, have_last_iterate_ ? &last_iterate_ : nullptr,
+                                             c.t_mid, &Kf, stress_force)
+                 : sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
+  if (c.mixed) {
+    last_iterate_ = q1;
+    have_last_iterate_ = true;
+  }
   // Kelvin–Voigt forces at the midpoint, f_v(q_{n+½}, Δq/Δt): their work f_v·Δq is what the step
   // removes from the energy, exactly (State::dissipated).
   if (sys_.viscous())
     f += sys_.viscous_force(qm, (q1 - s.q) / dt, 0.5, 1.0 / dt, J ? &Kf : nullptr);
   if (dissipating(s)) f += dissipative_force(s, q1, dt, J ? &Kf : nullptr);
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
+  const VecX r0_hat = mixed ? VecX(r0 + dt * stress_force) : r0;
   // 𝖦 = G̃(qₙ, qₙ₊₁), the discrete derivative of the selected rows: G(q_{n+½}) for rows at most
   // quadratic (DNSM-III (9)–(10)).
   const SpMat Gm = sys_.discrete_jacobian(s.q, q1);
@@ -276,7 +295,7 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
     // 𝖯ᵀ r₀ by a leaves-to-root sweep; the Newton matrix stays factored (TreeNewtonSolver).
     const VecX R = sys_.reduce(qm, r0);
     if (NJ) {
-      NJ->A = reduced_stiffness(qm, Gm, r0, Kf, dt);
+      NJ->A = reduced_stiffness(qm, Gm, r0_hat, Kf, dt);
       NJ->tree = true;
       NJ->qm = qm;
       NJ->q1 = q1;
@@ -314,7 +333,7 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
     const VecX phi = sys_.constraints(q1, c.s->t + dt);
     for (int i = 0; i < mc; ++i) R(k + i) = constraint_scale_ * phi(rows[i]);
     if (J) {
-      const SpMat K = reduced_stiffness(qm, Gm, r0, Kf, dt);
+      const SpMat K = reduced_stiffness(qm, Gm, r0_hat, Kf, dt);
       SpMat Lm, Bm, Pm;
       sys_.tree_factors(qm, Lm, Bm, Pm);
       const SpMat PmT = Pm.transpose(), LmT = Lm.transpose(), BmT = Bm.transpose();
@@ -369,7 +388,7 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
   const VecX phi = sys_.constraints(q1, c.s->t + dt);
   for (int i = 0; i < mc; ++i) R(kred + i) = constraint_scale_ * phi(con_rows[i]);
   if (J) {
-    const SpMat K = reduced_stiffness(qm, Gm, r0, Kf, dt);
+    const SpMat K = reduced_stiffness(qm, Gm, r0_hat, Kf, dt);
     SpMat dq;  // ∂q_{n+1}/∂x
     if (settings_.formulation == F::nullspace) {
       dq.resize(n, n);
@@ -383,6 +402,12 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
     J->setFromTriplets(t.begin(), t.end());
   }
   return R;
+}
+
+double EnergyMomentumIntegrator::start_residual(const StepContext& c, Predictor p,
+                                                bool bordered) const {
+  return evaluate(c, start_unknowns(*c.s, c.dt, p), nullptr, bordered, true)
+      .lpNorm<Eigen::Infinity>();
 }
 
 VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) const {
@@ -426,7 +451,10 @@ double EnergyMomentumIntegrator::residual_scale(const State& s, double dt, doubl
 }
 
 StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
-  const StepContext c = context(s, dt);
+  StepContext c = context(s, dt);
+  // Only director shells have a mixed tangent (Element::mixed_discrete_gradient_in_pattern): other
+  // models keep their iteration, starts included.
+  c.mixed = settings_.mixed_tangent && !sys_.shells().empty();
   // The momentum terms of the full equations (9); with a floor of 1 the scale of the check of a
   // reduced root below.
   const double full = (2.0 / c.dt) * (sys_.mass() * s.q).lpNorm<Eigen::Infinity>() +
@@ -448,6 +476,17 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     starts = {static_cast<Predictor>(s.last_start)};
     for (const Predictor p : {Predictor::extrapolated, Predictor::secant, Predictor::at_rest})
       if (p != starts.front()) starts.push_back(p);
+  }
+  // With the mixed tangent, on the assembled path, the predictor with the smaller residual goes
+  // first: two residuals against a failed start's up to max_iterations Newton matrices. The
+  // intersecting shells' late steps switch between the extrapolation and the secant
+  // (examples/intersecting_shells/README.md: 2 failed starts instead of 3 (reparametrized) and 0
+  // instead of 1 (the others); with the exact tangent 32 instead of 3 to t = 6).
+  if (have && c.mixed && !(blocks_ && !fast)) {
+    const bool secant = start_residual(c, Predictor::secant, fast) <
+                        start_residual(c, Predictor::extrapolated, fast);
+    starts = {secant ? Predictor::secant : Predictor::extrapolated,
+              secant ? Predictor::extrapolated : Predictor::secant, Predictor::at_rest};
   }
   NewtonOptions opt;
   opt.max_iterations = settings_.max_iterations;

@@ -96,7 +96,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // The residual and the correction are kept workspaces (valid until the next call): the block
   // path's Newton iteration allocates nothing.
   // start: x is a Newton start (λ̂ = State::lambda on the block path,
-  // ReducedNewtonMatrix::evaluate).
+  // ReducedNewtonMatrix::evaluate; the mixed tangent's stresses from qₙ).
   const VecX& evaluate(const StepContext& c, const VecX& x, NewtonMatrix* J, bool bordered,
                        bool start = false) const;
   VecX evaluate_assembled(const StepContext& c, const VecX& x, NewtonMatrix* J,
@@ -111,7 +111,9 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   const VecX& correction(const NewtonMatrix& J, const VecX& R, bool fresh) const;
   // 1, or the factor that shortens a reparametrized correction to max_rotation_correction.
   double rotation_trust_factor(const VecX& dx) const;
-  // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes.
+  // ‖R‖∞ at a predictor's start (no Newton matrix).
+  double start_residual(const StepContext& c, Predictor p, bool bordered) const;
+  // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes, λ̂ from r₀.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;
   VecX configuration(const StepContext& c, const VecX& x) const;
@@ -141,6 +143,10 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   mutable solve::NormalEquations normal_equations_;
   mutable solve::FixedPatternLU newton_lu_;  // keeps its column ordering while J keeps its pattern
   mutable VecX residual_, correction_, minus_residual_;  // workspaces of evaluate and correction
+  // The last iterate of the step's Newton iteration, where the mixed tangent linearizes the
+  // strains (none yet at a start).
+  mutable VecX last_iterate_;
+  mutable bool have_last_iterate_ = false;
   std::optional<system::TreeNewtonSolver> tree_;
   std::optional<ReducedNewtonMatrix> blocks_;
 };

@@ -201,12 +201,27 @@ class Reader : YamlFields {
   void read_solver(const YAML::Node& n, model::Solver& s) const {
     if (n.IsNull()) return;
     expect_map(n, "solver");
-    check_keys(
-        n, "solver",
-        {"analysis", "formulation", "integrator", "rho_infinity", "numerical_dissipation",
-         "scaling", "dt", "t_end", "residual_tolerance", "increment_tolerance", "max_iterations",
-         "max_rotation_correction", "max_subdivisions", "linear", "initial_equilibrium",
-         "path_following", "cosimulation", "saddle_point_solver", "linear_solver"});
+    check_keys(n, "solver",
+               {"analysis",
+                "formulation",
+                "integrator",
+                "rho_infinity",
+                "numerical_dissipation",
+                "scaling",
+                "dt",
+                "t_end",
+                "residual_tolerance",
+                "increment_tolerance",
+                "max_iterations",
+                "max_rotation_correction",
+                "mixed_tangent",
+                "max_subdivisions",
+                "linear",
+                "initial_equilibrium",
+                "path_following",
+                "cosimulation",
+                "saddle_point_solver",
+                "linear_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -268,6 +283,7 @@ class Reader : YamlFields {
                          "no limit)",
                          s.max_rotation_correction));
     }
+    if (const auto v = n["mixed_tangent"]) s.mixed_tangent = boolean(v, "solver.mixed_tangent");
     if (const auto v = n["linear"]) s.linear = boolean(v, "solver.linear");
     if (const auto v = n["max_subdivisions"]) {
       s.max_subdivisions = integer(v, "solver.max_subdivisions", 0);

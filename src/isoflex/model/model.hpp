@@ -501,6 +501,10 @@ struct Solver {
   // (rad) of a director or a frame it may apply; a longer one is shortened (0: no limit;
   // docs/theory/schemes.md §6).
   double max_rotation_correction = 0.1;
+  // Energy–momentum: the Newton matrix's geometric part with stresses linearized from the last
+  // iterate (mixed integration point Newton, docs/theory/schemes.md §6; director shells); false:
+  // with the stresses of the current iterate.
+  bool mixed_tangent = true;
   // A time step whose Newton iteration fails is retried as two half steps, at most this many
   // halvings deep (0: never; the run stops at the failing step). On by default: a step too long
   // for Newton (a free-flying beam at Δt = 0.5) is halved rather than ending the run.

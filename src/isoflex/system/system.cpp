@@ -235,6 +235,25 @@ VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat
   return f;
 }
 
+VecX System::mixed_discrete_force(const VecX& qn, const VecX& qn1, const VecX* q_lin, double t_mid,
+                                  SpMat* K, VecX& stress_force) const {
+  VecX f = VecX::Zero(n());
+  if (K) stiffness_.reset(*K);
+  stress_force.setZero(n());
+  VecX local;
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        const VecX ql = q_lin ? stacked(*q_lin, nodes) : VecX();
+        VecX dv = e.mixed_discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes),
+                                                       q_lin ? &ql : nullptr, values, &local);
+        add_stacked(nodes, local, stress_force);
+        return dv;
+      },
+      f, K);
+  add_load_forces(0.5 * (qn + qn1), t_mid, 0.5, f, K, nullptr);
+  return f;
+}
+
 VecX System::static_force(const VecX& q, double t, SpMat* K, double* load_norm) const {
   VecX f = VecX::Zero(n());
   if (K) stiffness_.reset(*K);
@@ -282,6 +301,15 @@ VecX System::strain_dissipation_force(const VecX& q_prev, const VecX& qn, const 
   return f;
 }
 
+void System::add_stacked(const std::vector<int>& nodes, const VecX& local, VecX& global) const {
+  int o = 0;
+  for (int a : nodes) {
+    const int c = coordinate_count(a);
+    global.segment(nodes_[a].q_offset, c) += local.segment(o, c);
+    o += c;
+  }
+}
+
 void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
                                 Kernels kernels) const {
   const bool adding = kernels != Kernels::all_overwriting;
@@ -302,13 +330,12 @@ void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
       else
         values.resize(stiffness_.local_entries(part));
     }
-    const VecX dv = kernel(*e, nodes, !K ? nullptr : in_place ? K->valuePtr() : values.data());
-    int o = 0;
-    for (int a : nodes) {
-      const int c = coordinate_count(a);
-      f.segment(nodes_[a].q_offset, c) += dv.segment(o, c);
-      o += c;
-    }
+    add_stacked(nodes,
+                kernel(*e, nodes,
+                       !K         ? nullptr
+                       : in_place ? K->valuePtr()
+                                  : values.data()),
+                f);
     if (K && !in_place) stiffness_.scatter(part, values.data(), *K);
     touched = touched || (K && stiffness_.local_entries(part) > 0);
   }

@@ -244,6 +244,12 @@ class System {
   double potential(const VecX& q) const;
   // f = DV(qₙ, qₙ₊₁) − f_ext(q_{n+½}, t); K (if not null) receives ∂f/∂qₙ₊₁.
   VecX discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const;
+  // The mixed integration point Newton iteration (docs/theory/schemes.md §6): f as
+  // discrete_force; K with the elements' geometric parts at estimated stresses
+  // (Element::mixed_discrete_gradient_in_pattern: strains linearized at q_lin, or qₙ's at a
+  // Newton start, q_lin null); stress_force (size n) the force of those stresses less f's.
+  VecX mixed_discrete_force(const VecX& qn, const VecX& qn1, const VecX* q_lin, double t_mid,
+                            SpMat* K, VecX& stress_force) const;
   // Statics (and the DAE integrators): f = ∇V(q) − f_ext(q, t); K (if not null) receives
   // ∂f/∂q = ∇²V − ∂f_ext/∂q in the same fixed pattern; load_norm (if not null) ‖f_ext(q, t)‖∞.
   VecX static_force(const VecX& q, double t, SpMat* K, double* load_norm = nullptr) const;
@@ -413,6 +419,8 @@ class System {
   // Every element, whose kernel overwrites its matrix values; or only the viscous elements
   // (Element::viscous), whose kernel adds to them.
   enum class Kernels { all_overwriting, viscous_adding, strain_dissipation_adding };
+  // global += the node blocks of `local`, a vector of the stacked coordinates of `nodes`.
+  void add_stacked(const std::vector<int>& nodes, const VecX& local, VecX& global) const;
   // f += the kernel's vector per element, K += its matrix values (fixed pattern).
   void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
                           Kernels kernels = Kernels::all_overwriting) const;
