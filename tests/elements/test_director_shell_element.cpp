@@ -182,6 +182,23 @@ TEST(DirectorShellElement, MixedTangentIsTheExactOneUpToTheSquareOfTheLinearizat
       }
       EXPECT_GT(diff[1], 0.0) << trial;
       EXPECT_NEAR(diff[0] / diff[1], 4.0, 0.1) << trial;  // O(ε²)
+      // The algorithmic dissipative stress's tangent (docs/theory/schemes.md §10) the same way.
+      const VecX qp = f.deformed(trial + 2);
+      Mat<24, 24> Kd = Mat<24, 24>::Zero(), Kdm = Mat<24, 24>::Zero();
+      const VecX fd = e->strain_dissipation_force_in_pattern(qp, qn, qn1, 0.1, 0.8, Kd.data());
+      const VecX fdm = e->mixed_strain_dissipation_force_in_pattern(qp, qn, qn1, &qn1, 0.1, 0.8,
+                                                                    Kdm.data(), &stress_force);
+      EXPECT_LT((fdm - fd).norm(), 1e-14 * f.force_scale) << trial;
+      EXPECT_LT(rel_diff(MatX(Kdm), MatX(Kd)), 1e-14) << trial;
+      EXPECT_LT(stress_force.norm(), 1e-15 * f.force_scale) << trial;
+      for (int h = 0; h < 2; ++h) {
+        const VecX ql = qn1 + (h ? 0.5 : 1.0) * dir;
+        Kdm.setZero();
+        e->mixed_strain_dissipation_force_in_pattern(qp, qn, qn1, &ql, 0.1, 0.8, Kdm.data(),
+                                                     &stress_force);
+        diff[h] = (MatX(Kdm) - MatX(Kd)).norm();
+      }
+      EXPECT_NEAR(diff[0] / diff[1], 4.0, 0.1) << trial;
       // At a start Ê = E(qₙ): exact where qₙ₊₁ has qₙ's strains, a rigid motion of it.
       const VecX moved = rigid_motion(qn, rodrigues(Vec3(0.3, -0.2, 0.5)), Vec3(0.1, 0.2, -0.3));
       e->discrete_gradient(qn, moved, &K);

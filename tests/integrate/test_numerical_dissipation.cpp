@@ -112,13 +112,14 @@ TEST(NumericalDissipation, BeamsKeepMomentaAndTheBalance) {
   EXPECT_LT((ends[0] - ends[1]).norm(), 1e-8);
 }
 
-// Halved steps (max_iterations 4: most steps are taken as halves or quarters): the second
+// Halved steps (max_iterations 3: most steps are taken as halves or quarters; 4 with the exact
+// tangent, before the mixed one converged in fewer): the second
 // difference of steps of other lengths, ΔEₙ₊₁ − (Δt/Δtₙ) ΔEₙ, and the work summed with the same
 // ratio keep the balance.
 TEST(NumericalDissipation, HalvedStepsKeepTheBalance) {
   ISOFLEX_SKIP_LONG_RUN_UNDER_ASAN();
   model::Model m = shells(0.05, 1.2);
-  m.solver.max_iterations = 4;
+  m.solver.max_iterations = 3;
   const test::Trajectory r = test::simulate(m, F::reparametrized);
   const auto& s = r.snapshots;
   const double H0 = s.front().total_energy + s.front().dissipated_energy - s.front().external_work;
@@ -132,7 +133,7 @@ TEST(NumericalDissipation, HalvedStepsKeepTheBalance) {
   }
   std::printf("  [dissipation] halved steps: %d iterations in %zu steps, balance %.2e\n",
               iterations, s.size() - 1, balance);
-  EXPECT_GT(iterations, 4 * static_cast<int>(s.size() - 1));  // more than one attempt per step
+  EXPECT_GT(iterations, 3 * static_cast<int>(s.size() - 1));  // more than one attempt per step
   EXPECT_LT(balance, 1e-12);
 }
 

@@ -370,6 +370,15 @@ VecX DirectorShellElement::discrete_gradient(const VecX& qnx, const VecX& qn1x,
   return dv;
 }
 
+DirectorShellElement::Strains DirectorShellElement::estimated_strains(const Q& qn1,
+                                                                      const VecX* q_lin,
+                                                                      const Strains& en) const {
+  if (!q_lin) return en;
+  const Q ql = as_element_q(*q_lin);
+  const Jacobian Bl = strain_jacobian(ql);
+  return Bl * qn1 - 0.5 * Bl * ql;  // B(q) q = 2(E(q) + E⁰)
+}
+
 VecX DirectorShellElement::mixed_discrete_gradient_in_pattern(const VecX& qnx, const VecX& qn1x,
                                                               const VecX* q_lin, double* values,
                                                               VecX* stress_force) const {
@@ -382,13 +391,7 @@ VecX DirectorShellElement::mixed_discrete_gradient_in_pattern(const VecX& qnx, c
   const Strains S = stresses(0.5 * (en + 0.5 * Bn1 * qn1) - e0_);
   const Q dv = Bm.transpose() * S + gravity_gradient();
   if (!values && !stress_force) return dv;
-  Strains e_hat = en;  // Ê + E⁰
-  if (q_lin) {
-    const Q ql = as_element_q(*q_lin);
-    const Jacobian Bl = strain_jacobian(ql);
-    e_hat = Bl * qn1 - 0.5 * Bl * ql;  // E(q_l) + B(q_l)(qₙ₊₁ − q_l) + E⁰
-  }
-  const Strains S_hat = stresses(0.5 * (en + e_hat) - e0_);
+  const Strains S_hat = stresses(0.5 * (en + estimated_strains(qn1, q_lin, en)) - e0_);
   if (stress_force) *stress_force = Bm.transpose() * (S_hat - S);
   if (values) {
     Eigen::Map<Mat<kCoords, kCoords>> K(values);
@@ -397,9 +400,21 @@ VecX DirectorShellElement::mixed_discrete_gradient_in_pattern(const VecX& qnx, c
   return dv;
 }
 
-VecX DirectorShellElement::strain_dissipation_force_in_pattern(const VecX& q_prevx, const VecX& qnx,
-                                                               const VecX& qn1x, double chi,
+VecX DirectorShellElement::strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
+                                                               const VecX& qn1, double chi,
                                                                double ratio, double* values) const {
+  return dissipation(q_prev, qn, qn1, nullptr, false, chi, ratio, values, nullptr);
+}
+
+VecX DirectorShellElement::mixed_strain_dissipation_force_in_pattern(
+    const VecX& q_prev, const VecX& qn, const VecX& qn1, const VecX* q_lin, double chi,
+    double ratio, double* values, VecX* stress_force) const {
+  return dissipation(q_prev, qn, qn1, q_lin, true, chi, ratio, values, stress_force);
+}
+
+VecX DirectorShellElement::dissipation(const VecX& q_prevx, const VecX& qnx, const VecX& qn1x,
+                                       const VecX* q_lin, bool mixed, double chi, double ratio,
+                                       double* values, VecX* stress_force) const {
   const Q qp = as_element_q(q_prevx);
   const Q qn = as_element_q(qnx);
   const Q qn1 = as_element_q(qn1x);
@@ -408,12 +423,17 @@ VecX DirectorShellElement::strain_dissipation_force_in_pattern(const VecX& q_pre
   const Jacobian Bm = 0.5 * (Bn + Bn1);
   // E + E⁰ = ½ B(q) q: the strain differences without the reference strains.
   const Strains en = 0.5 * Bn * qn;
-  const Strains d2e = 0.5 * Bn1 * qn1 - en - ratio * (en - 0.5 * strain_jacobian(qp) * qp);
-  const Strains S = chi * stresses(d2e);
+  const Strains back = ratio * (en - 0.5 * strain_jacobian(qp) * qp);  // r ΔEₙ
+  const Strains S = chi * stresses(0.5 * Bn1 * qn1 - en - back);
   const Q f = Bm.transpose() * S;
+  if (!values && !stress_force) return f;
+  // The geometric part with Ê for E(qₙ₊₁) in the mixed iteration.
+  const Strains S_geo =
+      mixed ? Strains(chi * stresses(estimated_strains(qn1, q_lin, en) - en - back)) : S;
+  if (stress_force) *stress_force = Bm.transpose() * (S_geo - S);
   if (values) {
     Eigen::Map<Mat<kCoords, kCoords>> K(values);
-    K += 0.5 * weighted_strain_hessian(S) + chi * material_stiffness(Bm, Bn1);
+    K += 0.5 * weighted_strain_hessian(S_geo) + chi * material_stiffness(Bm, Bn1);
   }
   return f;
 }

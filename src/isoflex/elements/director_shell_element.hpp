@@ -69,6 +69,10 @@ class DirectorShellElement final : public Element {
   bool strain_dissipation() const override { return true; }
   VecX strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn, const VecX& qn1,
                                            double chi, double ratio, double* values) const override;
+  VecX mixed_strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
+                                                 const VecX& qn1, const VecX* q_lin, double chi,
+                                                 double ratio, double* values,
+                                                 VecX* stress_force) const override;
   // Strain-energy Hessian (24 × 24) at q (for linear analysis and tests).
   Mat<24, 24> stiffness(const Vec<24>& q) const;
   double reference_area() const { return area_; }
@@ -106,6 +110,12 @@ class DirectorShellElement final : public Element {
   Mat<kCoords, kCoords> material_stiffness(const Jacobian& Bl, const Jacobian& Br) const;
   // Quadrature-weighted stresses S = C E (the weights w_g j_g are in C).
   Strains stresses(const Strains& e) const;
+  // Ê + E⁰ of mixed_discrete_gradient_in_pattern: E(q_l) + B(q_l)(qₙ₊₁ − q_l) + E⁰, or en (the
+  // strains of qₙ plus E⁰) at a start.
+  Strains estimated_strains(const Q& qn1, const VecX* q_lin, const Strains& en) const;
+  // f_d of strain_dissipation_force_in_pattern; mixed: its geometric part with Ê.
+  VecX dissipation(const VecX& q_prev, const VecX& qn, const VecX& qn1, const VecX* q_lin,
+                   bool mixed, double chi, double ratio, double* values, VecX* stress_force) const;
   Vec<kCoords> gravity_gradient() const;
   static Q as_element_q(const VecX& q);
 

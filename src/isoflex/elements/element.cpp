@@ -40,6 +40,14 @@ VecX Element::strain_dissipation_force_in_pattern(const VecX&, const VecX& qn, c
   return VecX::Zero(qn.size());
 }
 
+VecX Element::mixed_strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
+                                                        const VecX& qn1, const VecX*, double chi,
+                                                        double ratio, double* values,
+                                                        VecX* stress_force) const {
+  if (stress_force) stress_force->setZero(qn.size());
+  return strain_dissipation_force_in_pattern(q_prev, qn, qn1, chi, ratio, values);
+}
+
 SpMat Element::sparse_mass() const {
   return mass().sparseView(0.0, 0.0);
 }

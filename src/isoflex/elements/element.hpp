@@ -85,6 +85,13 @@ class Element {
   virtual VecX strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
                                                    const VecX& qn1, double chi, double ratio,
                                                    double* values) const;
+  // The same f_d, with the tangent's geometric part (½ Σ S_d,k H_k) and stress_force as in
+  // mixed_discrete_gradient_in_pattern: E(qₙ₊₁) replaced by the estimate Ê. Default: the exact
+  // tangent and a zero stress_force.
+  virtual VecX mixed_strain_dissipation_force_in_pattern(const VecX& q_prev, const VecX& qn,
+                                                         const VecX& qn1, const VecX* q_lin,
+                                                         double chi, double ratio, double* values,
+                                                         VecX* stress_force) const;
 
   // --- History --------------------------------------------------------------------------------
   // A configuration q of a converged step (time step or load step), before the next step starts.

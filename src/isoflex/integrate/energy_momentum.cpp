@@ -274,15 +274,17 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
   VecX f = mixed ? sys_.mixed_discrete_force(s.q, q1, have_last_iterate_ ? &last_iterate_ : nullptr,
                                              c.t_mid, &Kf, stress_force)
                  : sys_.discrete_force(s.q, q1, c.t_mid, J ? &Kf : nullptr);
-  if (c.mixed) {
-    last_iterate_ = q1;
-    have_last_iterate_ = true;
-  }
+
   // Kelvin–Voigt forces at the midpoint, f_v(q_{n+½}, Δq/Δt): their work f_v·Δq is what the step
   // removes from the energy, exactly (State::dissipated).
   if (sys_.viscous())
     f += sys_.viscous_force(qm, (q1 - s.q) / dt, 0.5, 1.0 / dt, J ? &Kf : nullptr);
-  if (dissipating(s)) f += dissipative_force(s, q1, dt, J ? &Kf : nullptr);
+  if (dissipating(s))
+    f += dissipative_force(s, q1, dt, J ? &Kf : nullptr, mixed ? &stress_force : nullptr);
+  if (c.mixed) {
+    last_iterate_ = q1;
+    have_last_iterate_ = true;
+  }
   const VecX r0 = sys_.mass() * (v1 - s.v) + dt * f;
   const VecX r0_hat = mixed ? VecX(r0 + dt * stress_force) : r0;
   // 𝖦 = G̃(qₙ, qₙ₊₁), the discrete derivative of the selected rows: G(q_{n+½}) for rows at most
@@ -608,11 +610,15 @@ bool EnergyMomentumIntegrator::dissipating(const State& s) const {
 }
 
 VecX EnergyMomentumIntegrator::dissipative_force(const State& s, const VecX& q1, double dt,
-                                                 SpMat* K) const {
+                                                 SpMat* K, VecX* stress_force) const {
   // The strains' second difference over steps of other lengths: ΔEₙ₊₁ − (Δt/Δtₙ) ΔEₙ, zero for
   // strains linear in t.
-  return sys_.strain_dissipation_force(s.q_prev, s.q, q1, settings_.numerical_dissipation,
-                                       dt / s.last_dt, K);
+  const double chi = settings_.numerical_dissipation, ratio = dt / s.last_dt;
+  if (stress_force)
+    return sys_.mixed_strain_dissipation_force(s.q_prev, s.q, q1,
+                                               have_last_iterate_ ? &last_iterate_ : nullptr, chi,
+                                               ratio, K, *stress_force);
+  return sys_.strain_dissipation_force(s.q_prev, s.q, q1, chi, ratio, K);
 }
 
 void EnergyMomentumIntegrator::set_joint_reactions(bool on) {

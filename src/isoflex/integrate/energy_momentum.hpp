@@ -103,9 +103,11 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
                           bool bordered) const;  // every path but the blocks
   // Numerical dissipation (model::Solver::numerical_dissipation, docs/theory/schemes.md §10): on
   // from the second step (it needs qₙ₋₁, kept in State::q_prev); the elements' f_d and its
-  // ∂f_d/∂qₙ₊₁ (K, if not null, += it).
+  // ∂f_d/∂qₙ₊₁ (K, if not null, += it); with stress_force (not null) the mixed tangent's
+  // (System::mixed_strain_dissipation_force at the last iterate).
   bool dissipating(const State& s) const;
-  VecX dissipative_force(const State& s, const VecX& q1, double dt, system::SpMat* K) const;
+  VecX dissipative_force(const State& s, const VecX& q1, double dt, system::SpMat* K,
+                         VecX* stress_force = nullptr) const;
   // −A⁻¹R for the kept matrix; `fresh`: A was evaluated since the last call (else its
   // factorization is reused where one is kept: the chord corrections of newton_loop).
   const VecX& correction(const NewtonMatrix& J, const VecX& R, bool fresh) const;

@@ -301,6 +301,24 @@ VecX System::strain_dissipation_force(const VecX& q_prev, const VecX& qn, const 
   return f;
 }
 
+VecX System::mixed_strain_dissipation_force(const VecX& q_prev, const VecX& qn, const VecX& qn1,
+                                            const VecX* q_lin, double chi, double ratio, SpMat* K,
+                                            VecX& stress_force) const {
+  VecX f = VecX::Zero(n());
+  VecX local;
+  add_element_forces(
+      [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
+        const VecX ql = q_lin ? stacked(*q_lin, nodes) : VecX();
+        VecX fd = e.mixed_strain_dissipation_force_in_pattern(
+            stacked(q_prev, nodes), stacked(qn, nodes), stacked(qn1, nodes), q_lin ? &ql : nullptr,
+            chi, ratio, values, &local);
+        add_stacked(nodes, local, stress_force);
+        return fd;
+      },
+      f, K, Kernels::strain_dissipation_adding);
+  return f;
+}
+
 void System::add_stacked(const std::vector<int>& nodes, const VecX& local, VecX& global) const {
   int o = 0;
   for (int a : nodes) {

@@ -274,6 +274,11 @@ class System {
   // of stiffness_pattern()) += ∂f_d/∂qₙ₊₁.
   VecX strain_dissipation_force(const VecX& q_prev, const VecX& qn, const VecX& qn1, double chi,
                                 double ratio, SpMat* K) const;
+  // The same with the mixed tangent (mixed_discrete_force); stress_force (size n) += the force of
+  // the estimated stresses less f_d's.
+  VecX mixed_strain_dissipation_force(const VecX& q_prev, const VecX& qn, const VecX& qn1,
+                                      const VecX* q_lin, double chi, double ratio, SpMat* K,
+                                      VecX& stress_force) const;
   // The generalized external loads f_ext(q, t) (positive: the force the loads exert).
   VecX load_force(const VecX& q, double t) const;
 
