@@ -108,6 +108,18 @@ BeamElement::BeamElement(int node_a, int node_b, const frame_node::Q& q0_a,
     for (int c = 0; c < 8; ++c)
       for (int b = 0; b < 8; ++b)
         if (h_[k](b, c) != 0.0) entries_.push_back({3 * b, kCoords * k + 3 * c, h_[k](b, c)});
+  std::vector<std::vector<Entry>> by_slot(6 * 8);
+  for (const Entry& e : entries_) by_slot[e.out / 3].push_back(e);
+  if (std::all_of(by_slot.begin(), by_slot.end(), [](const auto& l) { return l.size() <= 2; }))
+    for (int o = 0; o < 6 * 8; ++o) {
+      const auto& l = by_slot[o];
+      if (l.empty())
+        zero_slots_.push_back(3 * o);
+      else if (l.size() == 1)
+        singles_.push_back({3 * o, l[0].in, l[0].in, l[0].h, 0.0});
+      else
+        pairs_.push_back({3 * o, l[0].in, l[1].in, l[0].h, l[1].h});
+    }
 
   Q q0;
   q0 << q0_a, q0_b;
@@ -134,9 +146,44 @@ Mat<BeamElement::kCoords, 6> BeamElement::strain_jacobian_transpose(const Q& q) 
   // Column k of Bᵀ is H_k q = (h_k ⊗ I₃) q, i.e. the 3 × 8 matrix Q h_k read column by column:
   // column c of Q h_k is Σ_b h_k(b, c) q_b, summed over the nonzeros of h_k only (entries_, two
   // per column without corner triads) instead of the dense 3 × 8 by 8 × 8 product.
-  Mat<kCoords, 6> Bt = Mat<kCoords, 6>::Zero();
+  Mat<kCoords, 6> Bt;
   double* out = Bt.data();
   const double* in = q.data();
+  if (!zero_slots_.empty() || !singles_.empty() || !pairs_.empty()) {
+    // Without corner triads every 3-vector has two entries, one or none: each summed in
+    // registers and stored once (the loop below loads and stores Bᵀ for every entry and zeroes
+    // it first). The sums start from 0.0 as those of the loop do, so that a contracted
+    // multiply-add rounds the same way (h₀a + h₁b written as such would be contracted the other
+    // way round).
+    for (const int o : zero_slots_) out[o] = out[o + 1] = out[o + 2] = 0.0;
+    for (const SlotEntries& p : singles_) {
+      const double* a = in + p.in0;
+      double o0 = 0.0, o1 = 0.0, o2 = 0.0;
+      o0 += p.h0 * a[0];
+      o1 += p.h0 * a[1];
+      o2 += p.h0 * a[2];
+      double* o = out + p.out;
+      o[0] = o0;
+      o[1] = o1;
+      o[2] = o2;
+    }
+    for (const SlotEntries& p : pairs_) {
+      const double *a = in + p.in0, *b = in + p.in1;
+      double o0 = 0.0, o1 = 0.0, o2 = 0.0;
+      o0 += p.h0 * a[0];
+      o1 += p.h0 * a[1];
+      o2 += p.h0 * a[2];
+      o0 += p.h1 * b[0];
+      o1 += p.h1 * b[1];
+      o2 += p.h1 * b[2];
+      double* o = out + p.out;
+      o[0] = o0;
+      o[1] = o1;
+      o[2] = o2;
+    }
+    return Bt;
+  }
+  Bt.setZero();
   for (const Entry& e : entries_) {
     double* o = out + e.out;
     const double* i = in + e.in;

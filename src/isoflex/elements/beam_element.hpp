@@ -122,6 +122,11 @@ class BeamElement final : public Element {
     int in, out;
     double h;
   };
+  // A 3-vector of Bᵀ (block c of column k) with one or two entries: h0 q(in0) [+ h1 q(in1)].
+  struct SlotEntries {
+    int out, in0, in1;
+    double h0, h1;
+  };
 
   // B(q)ᵀ, B(q) = ∂E/∂q the strain Jacobian (row k = (H_k q)ᵀ, linear in q), stored as its
   // transpose: column k is H_k q, built from contiguous 3-vectors.
@@ -143,6 +148,10 @@ class BeamElement final : public Element {
   // of its 64 entries are nonzero), so B(q) from them costs a fifth of the dense 3 × 8 by 8 × 8
   // products.
   std::vector<Entry> entries_;
+  // entries_ by their 3-vector of Bᵀ, where none has more than two (without corner triads: the
+  // Γ_i and K_i are sums of products of two blocks), else all three empty.
+  std::vector<SlotEntries> pairs_, singles_;
+  std::vector<int> zero_slots_;  // the 3-vectors of Bᵀ without entries
 };
 
 }  // namespace isoflex::elements
