@@ -85,6 +85,11 @@ class ReducedNewtonMatrix {
   };
 
   int pair(int i, int j) const;  // index into pairs_, −1 if K̂ does not couple i and j
+  // Node i is a root whose group is a frame node's twist (width 6, θ in its last three).
+  bool frame_root(int i) const {
+    return parent_joint_[i] < 0 && path_[i].size() == 1 && groups_[path_[i][0]].width == 6 &&
+           groups_[path_[i][0]].rotvec == 3;
+  }
   // f = DV(qₙ, q₁) − f_ext(q_{n+½}, t_{n+½}) into f_ (System::discrete_force); with `want` the
   // node blocks of (2/Δt) M + Δt ∂f/∂q₁ into K_. Without `want`, f_ is kept if it is already
   // that of (qₙ, q₁, Δt, t_{n+½}): the multipliers of a step are those of the configuration
@@ -101,11 +106,13 @@ class ReducedNewtonMatrix {
   std::vector<std::vector<int>> path_;  // groups on the path of node i, root first
   std::vector<int> parent_joint_;       // tree joint whose child is node i, −1 for a root
   std::vector<Pair> pairs_;
+  std::vector<int> diagonal_pair_;                           // pair (i, i) of node i
   std::vector<std::vector<std::pair<int, int>>> row_pairs_;  // node i: (j, pair), sorted by j
   std::vector<int> pair_blocks_;                             // J block of each path combination
   std::vector<std::vector<int>> element_pairs_;              // ne × ne pair indices per element
   std::vector<const elements::BeamElement*> beams_;  // the element as a beam (fixed sizes), or null
   std::vector<Block> mass_;                          // M blocks of the pairs
+  bool mass_symmetric_ = false;  // M = Mᵀ bit for bit (its rows are its columns)
   struct LoadEntry {
     int pair, row, col;
   };
