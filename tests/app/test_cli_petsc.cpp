@@ -81,13 +81,15 @@ TEST(CliPetsc, AMatrixWithMultiplierRowsIsSolvedByThePetscSolver) {
 
 // A saddle-point solve that fails (here: PETSC_OPTIONS leave the augmented block without a
 // preconditioner, and FGMRES does not converge in its 5000 iterations) falls back to the direct
-// solver: the same displacement, the warning once, the fallback counted in summary.json.
+// solver: the same displacement, the warning once, the fallback counted in summary.json. (The
+// symmetry rows kept as multipliers, `support_rows: multipliers`: tied, there is no saddle point.)
 TEST(CliPetsc, AFailedSaddlePointSolveFallsBackToTheDirectSolver) {
   ISOFLEX_REQUIRE_PETSC();
   const auto d = temp("quarter_fallback");
-  const fs::path m =
-      model_file(d, replaced(read_text(ISOFLEX_SOURCE_DIR "/examples/scordelis_lo/kl_shell.yaml"),
-                             "  linear: true", "  linear: true\n  linear_solver: mumps"));
+  const fs::path m = model_file(
+      d, replaced(read_text(ISOFLEX_SOURCE_DIR "/examples/scordelis_lo/kl_shell.yaml"),
+                  "  linear: true",
+                  "  linear: true\n  linear_solver: mumps\n  support_rows: multipliers"));
   const auto r = isoflex::test::run_shell(
       "PETSC_OPTIONS='-isoflex_fieldsplit_primal_ksp_type preonly "
       "-isoflex_fieldsplit_primal_pc_type none' " ISOFLEX_BINARY " run " +
@@ -115,8 +117,9 @@ double probe_uz(const std::string& summary) {
 }  // namespace
 
 // The pinched cylinder of bench/large_shells (bench/large_shells.md, "Pinched cylinder"), at 32 ×
-// 32 elements (k = 31: 3704 unknowns, two multigrid levels) through `isoflex run --static`: its
-// saddle point (the symmetry rows) by cg_multigrid without a fallback; u_z under the load within
+// 32 elements (k = 31: 3704 coordinates, two multigrid levels) through `isoflex run --static`:
+// its symmetry rows tied (docs/theory/solvers.md §7), cg_multigrid without a fallback; u_z under
+// the load within
 // 0.5 % of the model's converged value −1.8283e-5 (examples/pinched_cylinder/README.md; measured
 // −1.82313e-5, −0.28 %), and equal to examples/pinched_cylinder/kl_shell.yaml at the same degree
 // and refinement (p = 3, k = 31; the direct solver) to 10⁻⁸ relative.

@@ -351,7 +351,7 @@ TEST(ModelReader, UnknownKey) {
       "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
       "increment_tolerance, max_iterations, max_rotation_correction, mixed_tangent, "
       "max_subdivisions, linear, initial_equilibrium, "
-      "path_following, cosimulation, saddle_point_solver, linear_solver)");
+      "path_following, cosimulation, saddle_point_solver, support_rows, linear_solver)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "

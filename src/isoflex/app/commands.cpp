@@ -238,17 +238,28 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
     fmt::print(out, "analysis         static, {} load steps to t = {:g}{}\n", s.steps, s.t_end,
                s.adaptive ? fmt::format(" (adaptive, at most {} halvings)", s.max_cuts) : "");
   fmt::print(out, "eliminated       {}  (fixed coordinates)\n", eq.eliminated());
-  fmt::print(out, "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges{})\n",
+  fmt::print(out,
+             "multipliers      {}  (linear conditions: symmetry slopes, prescribed edges{}{})\n",
              eq.multipliers(),
              eq.implied_multipliers() > 0
                  ? fmt::format("; {} implied by the tied rows, their multipliers 0",
                                eq.implied_multipliers())
+                 : std::string(),
+             eq.tied_rows() > 0
+                 ? fmt::format("; {} symmetry and clamp slope rows tied instead, for the PETSc "
+                               "solver",
+                               eq.tied_rows())
                  : std::string());
   if (eq.tied() > 0 || eq.dropped_tied_rows() > 0)
     fmt::print(out,
-               "tied             {}  (slave coordinates of the straight triples' G¹ rows (5.36), "
-               "eliminated by substitution; {} row{} implied by the others)\n",
-               eq.tied(), eq.dropped_tied_rows(), eq.dropped_tied_rows() == 1 ? "" : "s");
+               "tied             {}  (slave coordinates of the {}, eliminated by substitution; {} "
+               "row{} implied by the others)\n",
+               eq.tied(),
+               eq.tied_rows() == 0 ? "straight triples' G¹ rows (5.36)"
+               : sys.linear_constraints().tied.empty()
+                   ? "symmetry and clamp slope rows"
+                   : "symmetry and clamp slope rows and the straight triples' G¹ rows (5.36)",
+               eq.dropped_tied_rows(), eq.dropped_tied_rows() == 1 ? "" : "s");
   fmt::print(out,
              "unknowns         {}  (static: free coordinates + multipliers + constraint rows)\n",
              eq.unknowns());

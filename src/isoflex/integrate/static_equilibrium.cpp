@@ -31,6 +31,7 @@ StaticSettings static_settings(const model::Solver& s) {
                      : s.saddle_point_solver == model::SaddlePointSolver::augmented_lagrangian
                          ? SaddlePointMethod::augmented_lagrangian
                          : SaddlePointMethod::automatic;
+  out.tie_homogeneous_rows = !s.support_rows_as_multipliers;
   switch (s.linear_solver) {
     case model::LinearSolver::automatic:
       out.linear_solver = LinearSolverMethod::automatic;

@@ -61,9 +61,13 @@ class StaticEquilibrium {
   // Newton unknowns: free coordinates, multipliers of the linear conditions, selected rows.
   int unknowns() const;
   int eliminated() const { return static_cast<int>(sys_.linear_constraints().eliminated.size()); }
-  int multipliers() const { return sys_.linear_constraints().multipliers(); }
-  // The slave coordinates of the tied rows (AF-D's straight triples) and the rows dropped as
-  // implied by the others.
+  // The multiplier rows of the linear conditions (those not tied).
+  int multipliers() const { return solver_.multiplier_rows(); }
+  // The homogeneous rows of the linear conditions (symmetry and clamp slopes) tied instead of
+  // given multipliers (a PETSc solver: docs/theory/solvers.md §7).
+  int tied_rows() const { return solver_.tied_homogeneous_rows(); }
+  // The slave coordinates of the tied rows (AF-D's straight triples, the tied homogeneous rows)
+  // and the rows dropped as implied by the others.
   int tied() const { return static_cast<int>(solver_.dofs().slaves.size()); }
   int dropped_tied_rows() const { return solver_.dofs().dropped_tied_rows; }
   // Multiplier rows that the tied rows imply (their multipliers 0).

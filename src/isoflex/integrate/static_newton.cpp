@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -57,6 +58,13 @@ struct StaticNewtonSolver::Impl {
   // on an interface whose G¹ rows are tied): their equation is μᵢ = 0 instead.
   std::vector<bool> implied;
   int implied_count = 0;
+  // The rows of the constraints given (original_rows) kept as multiplier rows when the
+  // homogeneous ones were tied (tie_homogeneous_rows; empty: all kept), and the slave
+  // coordinates those ties added (their residual is the rows' reaction: convergence scale).
+  int original_rows = 0;
+  bool given_ties = false;  // the constraints given had tied rows (AF-D)
+  std::vector<int> kept_rows;
+  std::vector<int> reaction_slaves;
 
   void drop_implied_rows() {
     std::vector<int> cols;
@@ -73,6 +81,112 @@ struct StaticNewtonSolver::Impl {
     Cf.prune([&](Eigen::Index r, Eigen::Index, double) {
       return !implied[static_cast<std::size_t>(r)];
     });
+  }
+
+  // The free dofs and the rows from cons: the DofMap of the eliminated dofs and tied rows, C on
+  // the free columns, the implied rows; throws for a row on eliminated dofs only.
+  void set_up_rows() {
+    dofs = DofMap::build(n, cons.eliminated, cons.tied);
+    nf = dofs.n_free();
+    nf_configuration = problem.configuration_size < 0
+                           ? nf
+                           : static_cast<int>(std::lower_bound(dofs.free.begin(), dofs.free.end(),
+                                                               problem.configuration_size) -
+                                              dofs.free.begin());
+    m = static_cast<int>(cons.C.rows());
+    implied.assign(static_cast<std::size_t>(m), false);
+    // C on the free columns.
+    std::vector<Eigen::Triplet<double>> trip;
+    for (int j = 0; j < cons.C.outerSize(); ++j)
+      for (const auto& [fj, w] : dofs.expansion(j))
+        for (SpMat::InnerIterator it(cons.C, j); it; ++it)
+          if (it.value() != 0.0) trip.emplace_back(static_cast<int>(it.row()), fj, w * it.value());
+    Cf.resize(m, nf);
+    Cf.setFromTriplets(trip.begin(), trip.end());
+    Cf.makeCompressed();
+    VecX row_norm = VecX::Zero(m);
+    for (const auto& t : trip) row_norm(t.row()) += t.value() * t.value();
+    if (!dofs.slaves.empty() && m > 0) drop_implied_rows();
+    for (int r = 0; r < m; ++r)
+      if (row_norm(r) == 0.0 && !implied[static_cast<std::size_t>(r)]) {
+        const std::string label = static_cast<std::size_t>(r) < cons.row_labels.size()
+                                      ? " (" + cons.row_labels[static_cast<std::size_t>(r)] + ")"
+                                      : std::string();
+        throw std::invalid_argument(fmt::format(
+            "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
+      }
+    if (problem.distributed) {
+      const char* why = m > 0                  ? "multiplier rows"
+                        : !dofs.slaves.empty() ? "tied coordinates"
+                        : !problem.symmetric   ? "an unsymmetric matrix"
+                        : settings.linear_solver == LinearSolverMethod::direct ? "the direct solver"
+                                                                               : nullptr;
+      if (why)
+        throw std::invalid_argument(
+            fmt::format("StaticNewtonSolver: a distributed problem (MPI) with {}", why));
+    }
+  }
+
+  // The homogeneous rows of cons as tied rows (master–slave, DofMap), the others kept as
+  // multiplier rows (kept_rows: their indices in the constraints given); reaction_slaves: the
+  // slave coordinates the ties add, whose residual is the rows' reaction.
+  void tie_homogeneous_rows() {
+    const std::vector<int> slaves_before = [&] {
+      std::vector<int> out;
+      for (const auto& sl : DofMap::build(n, cons.eliminated, cons.tied).slaves)
+        out.push_back(sl.dof);
+      return out;
+    }();
+    std::vector<std::vector<std::pair<int, double>>> rows(static_cast<std::size_t>(cons.C.rows()));
+    for (int j = 0; j < cons.C.outerSize(); ++j)
+      for (SpMat::InnerIterator it(cons.C, j); it; ++it)
+        if (it.value() != 0.0) rows[static_cast<std::size_t>(it.row())].emplace_back(j, it.value());
+    kept_rows.clear();
+    std::vector<int> new_index(rows.size(), -1);
+    std::vector<std::string> labels;
+    for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
+      if (cons.is_homogeneous(r)) {
+        cons.tied.push_back(std::move(rows[static_cast<std::size_t>(r)]));
+        continue;
+      }
+      new_index[static_cast<std::size_t>(r)] = static_cast<int>(kept_rows.size());
+      kept_rows.push_back(r);
+      if (static_cast<std::size_t>(r) < cons.row_labels.size())
+        labels.push_back(cons.row_labels[static_cast<std::size_t>(r)]);
+    }
+    std::vector<Eigen::Triplet<double>> t;
+    for (int j = 0; j < cons.C.outerSize(); ++j)
+      for (SpMat::InnerIterator it(cons.C, j); it; ++it)
+        if (const int r = new_index[static_cast<std::size_t>(it.row())]; r >= 0)
+          t.emplace_back(r, j, it.value());
+    SpMat C(static_cast<Eigen::Index>(kept_rows.size()), n);
+    C.setFromTriplets(t.begin(), t.end());
+    C.makeCompressed();
+    cons.C = std::move(C);
+    cons.row_labels = std::move(labels);
+    cons.homogeneous.clear();
+    if (cons.rhs) {
+      cons.rhs = [rhs = std::move(cons.rhs), kept = kept_rows](double time) {
+        const VecX d = rhs(time);
+        VecX out(static_cast<Eigen::Index>(kept.size()));
+        for (std::size_t k = 0; k < kept.size(); ++k)
+          out(static_cast<Eigen::Index>(k)) = d(kept[k]);
+        return out;
+      };
+    }
+    reaction_slaves.clear();
+    for (const auto& sl : DofMap::build(n, cons.eliminated, cons.tied).slaves)
+      if (!std::binary_search(slaves_before.begin(), slaves_before.end(), sl.dof))
+        reaction_slaves.push_back(sl.dof);
+  }
+
+  // The multipliers of the constraints given from those of the rows kept (a tied row's: 0).
+  VecX given_multipliers(const VecX& mu) const {
+    if (kept_rows.empty() && original_rows == m) return mu;
+    VecX out = VecX::Zero(original_rows);
+    for (std::size_t k = 0; k < kept_rows.size(); ++k)
+      out(kept_rows[k]) = mu(static_cast<Eigen::Index>(k));
+    return out;
   }
 
   // Reduction of K into the Newton matrix A (nf + m square), kept for K's pattern.
@@ -313,7 +427,7 @@ struct StaticNewtonSolver::Impl {
     const int threshold =
         m > 0 ? kAutomaticSaddlePointMultigridUnknowns : kAutomaticMultigridUnknowns;
     if (nf < threshold || nf_configuration < nf || !problem.symmetric ||
-        !problem.transfer_operators || !dofs.slaves.empty() || !solve::krylov_available())
+        !problem.transfer_operators || given_ties || !solve::krylov_available())
       return std::nullopt;
     return solve::KrylovMethod::cg_multigrid;
   }
@@ -423,41 +537,82 @@ struct StaticNewtonSolver::Impl {
     return out;
   }
 
-  // problem.transfer_operators on the Newton unknowns: P_1's rows of the free dofs, and at every
-  // level the coarse unknowns that the kept rows reach (a coarse control point whose fine image
-  // is held is not an unknown either).
+  // problem.transfer_operators on the Newton unknowns (docs/theory/solvers.md §4, §7): at every
+  // level l the unknowns are the free coordinates of a DofMap D_l, and the interpolation is
+  // P̂_l = S_l P_l T_{l+1} — the coarse unknowns expanded to the coarse coordinates by T_{l+1}
+  // (slaves from their masters), interpolated, and the free rows of level l kept (S_l). A coarse
+  // coordinate that reaches no free row is not an unknown (a coarse control point whose fine
+  // image is held), and the coarse ties are the level's own slave rows carried down,
+  // C_{l+1} = C_l P_l (C_l: e_s − Σ_k c_k e_k per slave s of D_l, the held terms dropped), so
+  // that a coarse correction interpolates to one that meets the ties exactly; their dependent
+  // rows (a fine tie per fine control point, a coarse one per coarse) are dropped by the
+  // DofMap's elimination. Without ties this is P_l's rows of the free dofs and the coarse
+  // coordinates that reach them, as it was.
   std::vector<SpMat> free_transfer_operators() const {
-    if (!dofs.slaves.empty())
-      throw std::runtime_error(
-          "geometric multigrid (cg_multigrid): the model has tied coordinates (c1 or c0 "
-          "couplings by elimination), which its interpolations do not follow");
     if (!problem.transfer_operators)
       throw std::runtime_error(
           "geometric multigrid (cg_multigrid): the model has no Kirchhoff–Love patch to coarsen");
     // Empty for a model small enough to be its own coarsest level.
     std::vector<SpMat> P = problem.transfer_operators();
-    // Fine index → kept row: the free configuration dofs (with multiplier rows, the rows of the
-    // augmented block Â; without, every free dof).
+    using Row = std::vector<std::pair<int, double>>;
+    // Level index → unknown (−1: held or a slave): the free configuration dofs (with multiplier
+    // rows, the rows of the augmented block Â; without, every free dof).
     std::vector<int> rows(static_cast<std::size_t>(n), -1);
     for (int k = 0; k < nf_configuration; ++k)
       rows[static_cast<std::size_t>(dofs.free[static_cast<std::size_t>(k)])] = k;
     int kept_rows = nf_configuration;
+    // The slave rows of a DofMap over the level's coordinates, its free terms only.
+    const auto slave_rows = [](const DofMap& d) {
+      std::vector<Row> out;
+      for (const auto& sl : d.slaves) {
+        Row r{{sl.dof, 1.0}};
+        for (const auto& [k, c] : sl.terms)
+          if (d.full_to_free[static_cast<std::size_t>(k)] >= 0) r.emplace_back(k, -c);
+        out.push_back(std::move(r));
+      }
+      return out;
+    };
+    std::vector<Row> ties = slave_rows(dofs);
     for (SpMat& Pl : P) {
-      std::vector<int> cols(static_cast<std::size_t>(Pl.cols()), -1);
-      int kept_cols = 0;
-      std::vector<Eigen::Triplet<double>> t;
+      const int n_coarse = static_cast<int>(Pl.cols());
+      // The coarse coordinates that reach a free row, and C_l P_l row by row.
+      std::vector<std::vector<std::pair<int, double>>> uses(static_cast<std::size_t>(Pl.rows()));
+      for (std::size_t r = 0; r < ties.size(); ++r)
+        for (const auto& [i, c] : ties[r]) uses[static_cast<std::size_t>(i)].emplace_back(r, c);
+      std::vector<bool> reaches(static_cast<std::size_t>(n_coarse), false);
+      std::vector<std::map<int, double>> coarse_ties(ties.size());
       for (int j = 0; j < Pl.outerSize(); ++j)
         for (SpMat::InnerIterator it(Pl, j); it; ++it) {
-          const int r = rows[static_cast<std::size_t>(it.row())];
-          if (r < 0) continue;
-          int& c = cols[static_cast<std::size_t>(j)];
-          if (c < 0) c = kept_cols++;
-          t.emplace_back(r, c, it.value());
+          if (rows[static_cast<std::size_t>(it.row())] >= 0)
+            reaches[static_cast<std::size_t>(j)] = true;
+          for (const auto& [r, c] : uses[static_cast<std::size_t>(it.row())])
+            coarse_ties[static_cast<std::size_t>(r)][j] += c * it.value();
         }
-      Pl = SpMat(kept_rows, kept_cols);
+      std::vector<int> held;
+      for (int j = 0; j < n_coarse; ++j)
+        if (!reaches[static_cast<std::size_t>(j)]) held.push_back(j);
+      std::vector<Row> tied;
+      for (const auto& t : coarse_ties) {
+        Row r;
+        for (const auto& [j, c] : t)
+          if (c != 0.0) r.emplace_back(j, c);
+        if (!r.empty()) tied.push_back(std::move(r));
+      }
+      const DofMap coarse = DofMap::build(n_coarse, held, tied);
+      std::vector<Eigen::Triplet<double>> t;
+      for (int j = 0; j < Pl.outerSize(); ++j) {
+        const auto expansion = coarse.expansion(j);
+        if (expansion.empty()) continue;
+        for (SpMat::InnerIterator it(Pl, j); it; ++it)
+          if (const int r = rows[static_cast<std::size_t>(it.row())]; r >= 0)
+            for (const auto& [f, w] : expansion) t.emplace_back(r, f, w * it.value());
+      }
+      Pl = SpMat(kept_rows, coarse.n_free());
       Pl.setFromTriplets(t.begin(), t.end());
-      rows = std::move(cols);
-      kept_rows = kept_cols;
+      Pl.makeCompressed();
+      rows = coarse.full_to_free;
+      kept_rows = coarse.n_free();
+      ties = slave_rows(coarse);
     }
     return P;
   }
@@ -497,6 +652,7 @@ struct StaticNewtonSolver::Impl {
     if (m > 0) r += cons.C.transpose() * mu;
     double reactions = m > 0 ? inf_norm(r - ev.r) : 0.0;
     for (int i : cons.eliminated) reactions = std::max(reactions, std::abs(ev.r(i)));
+    for (int i : reaction_slaves) reactions = std::max(reactions, std::abs(ev.r(i)));
     R.head(nf) = dofs.reduce(r);
     if (m > 0) R.tail(m) = cons.C * (x - problem.reference) - constraint_rhs(t);
     for (int r = 0; r < m; ++r)
@@ -742,54 +898,39 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
       std::adjacent_find(I.cons.eliminated.begin(), I.cons.eliminated.end()) !=
           I.cons.eliminated.end())
     throw std::invalid_argument("LinearConstraints: eliminated dofs not sorted and unique");
-  I.dofs = DofMap::build(I.n, I.cons.eliminated, I.cons.tied);
-  I.nf = I.dofs.n_free();
   if (I.problem.configuration_size > I.n)
     throw std::invalid_argument("StaticProblem: configuration_size larger than x");
-  I.nf_configuration =
-      I.problem.configuration_size < 0
-          ? I.nf
-          : static_cast<int>(std::lower_bound(I.dofs.free.begin(), I.dofs.free.end(),
-                                              I.problem.configuration_size) -
-                             I.dofs.free.begin());
   if (I.cons.C.rows() == 0) I.cons.C.resize(0, I.n);
   if (I.cons.C.cols() != I.n)
     throw std::invalid_argument(
         fmt::format("LinearConstraints: C has {} columns, expected {}", I.cons.C.cols(), I.n));
-  I.m = static_cast<int>(I.cons.C.rows());
   I.cons.C.makeCompressed();
-  I.implied.assign(static_cast<std::size_t>(I.m), false);
-  // C on the free columns.
-  std::vector<Eigen::Triplet<double>> trip;
-  for (int j = 0; j < I.cons.C.outerSize(); ++j)
-    for (const auto& [fj, w] : I.dofs.expansion(j))
-      for (SpMat::InnerIterator it(I.cons.C, j); it; ++it)
-        if (it.value() != 0.0) trip.emplace_back(static_cast<int>(it.row()), fj, w * it.value());
-  I.Cf.resize(I.m, I.nf);
-  I.Cf.setFromTriplets(trip.begin(), trip.end());
-  I.Cf.makeCompressed();
-  VecX row_norm = VecX::Zero(I.m);
-  for (const auto& t : trip) row_norm(t.row()) += t.value() * t.value();
-  if (!I.dofs.slaves.empty() && I.m > 0) I.drop_implied_rows();
-  for (int r = 0; r < I.m; ++r)
-    if (row_norm(r) == 0.0 && !I.implied[static_cast<std::size_t>(r)]) {
-      const std::string label = static_cast<std::size_t>(r) < I.cons.row_labels.size()
-                                    ? " (" + I.cons.row_labels[static_cast<std::size_t>(r)] + ")"
-                                    : std::string();
-      throw std::invalid_argument(fmt::format(
-          "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
+  I.original_rows = static_cast<int>(I.cons.C.rows());
+  I.given_ties = !I.cons.tied.empty();
+  // The homogeneous rows (symmetry and clamp slopes) are tied instead of given multipliers where
+  // a PETSc solver takes the Newton matrix (docs/theory/solvers.md §7): the matrix is then
+  // symmetric positive definite, and geometric multigrid solves it by CG as a model without rows.
+  // The direct solvers keep the rows (their results as before).
+  bool tie = false;
+  for (int r = 0; r < I.original_rows && !tie; ++r) tie = I.cons.is_homogeneous(r);
+  tie = tie && s.tie_homogeneous_rows && s.linear_solver != LinearSolverMethod::direct &&
+        I.problem.symmetric && !I.problem.distributed;
+  if (tie) {
+    LinearConstraints kept = I.cons;
+    I.tie_homogeneous_rows();
+    I.set_up_rows();
+    I.petsc = I.choose_petsc();
+    if (!I.petsc) {  // automatic chose the direct solvers: the rows as they were
+      I.cons = std::move(kept);
+      I.kept_rows.clear();
+      I.reaction_slaves.clear();
+      tie = false;
     }
-  if (I.problem.distributed) {
-    const char* why = I.m > 0                                         ? "multiplier rows"
-                      : !I.dofs.slaves.empty()                        ? "tied coordinates"
-                      : !I.problem.symmetric                          ? "an unsymmetric matrix"
-                      : s.linear_solver == LinearSolverMethod::direct ? "the direct solver"
-                                                                      : nullptr;
-    if (why)
-      throw std::invalid_argument(
-          fmt::format("StaticNewtonSolver: a distributed problem (MPI) with {}", why));
   }
-  I.petsc = I.choose_petsc();
+  if (!tie) {
+    I.set_up_rows();
+    I.petsc = I.choose_petsc();
+  }
   const PathSettings& p = s.path;
   if (p.control == PathControl::load) return;
   if (I.problem.linear)
@@ -827,6 +968,14 @@ const DofMap& StaticNewtonSolver::dofs() const {
 }
 int StaticNewtonSolver::implied_multiplier_rows() const {
   return impl_->implied_count;
+}
+int StaticNewtonSolver::multiplier_rows() const {
+  return impl_->m;
+}
+int StaticNewtonSolver::tied_homogeneous_rows() const {
+  return impl_->kept_rows.empty() && impl_->original_rows == impl_->m
+             ? 0
+             : impl_->original_rows - impl_->m;
 }
 const StaticSettings& StaticNewtonSolver::settings() const {
   return impl_->settings;
@@ -932,7 +1081,7 @@ StaticResult StaticNewtonSolver::Impl::solve_stepped(const StaticObserver& obser
     if (observer) observer(res.steps.back(), x);
   }
   res.x = std::move(x);
-  res.mu = std::move(mu);
+  res.mu = given_multipliers(mu);
   res.analyses = cholesky.analyses() + lu.analyses() + saddle.analyses() - analyses0;
   return res;
 }
@@ -1077,7 +1226,7 @@ StaticResult StaticNewtonSolver::Impl::solve_arc_length(const StaticObserver& ob
     dl = std::min(dl * std::clamp(growth, 0.5, 2.0), dl_max);
   }
   res.x = std::move(x);
-  res.mu = std::move(mu);
+  res.mu = given_multipliers(mu);
   res.analyses = cholesky.analyses() + lu.analyses() + saddle.analyses() - analyses0;
   return res;
 }

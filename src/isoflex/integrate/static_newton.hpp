@@ -149,6 +149,10 @@ struct StaticSettings {
   double t_end = 1.0;
   SaddlePointMethod saddle_point = SaddlePointMethod::automatic;
   LinearSolverMethod linear_solver = LinearSolverMethod::automatic;
+  // The homogeneous rows of the LinearConstraints (symmetry and clamp slopes) tied instead of
+  // given multipliers where a PETSc solver takes the Newton matrix (docs/theory/solvers.md §7);
+  // false: multiplier rows always (the saddle-point path of §5).
+  bool tie_homogeneous_rows = true;
   int steps = 1;  // nominal number of load increments (Δt = t_end / steps)
   bool adaptive = false;
   int max_cuts = 10;   // the increment is at least the nominal one / 2^max_cuts (adaptive)
@@ -214,6 +218,12 @@ class StaticNewtonSolver {
   const DofMap& dofs() const;
   // Multiplier rows implied by the tied rows (and the others): kept with the equation μᵢ = 0.
   int implied_multiplier_rows() const;
+  // The multiplier rows of the Newton matrix, and the homogeneous rows of the constraints given
+  // (LinearConstraints::homogeneous: symmetry and clamp slopes) that were tied instead: a PETSc
+  // solver takes the Newton matrix (docs/theory/solvers.md §7). Their multipliers in
+  // StaticResult::mu are 0.
+  int multiplier_rows() const;
+  int tied_homogeneous_rows() const;
   const StaticSettings& settings() const;
   // "direct" (CHOLMOD, UMFPACK, the saddle-point solver), or the PETSc solver of the Newton
   // matrices (StaticSettings::linear_solver; automatic: by size).

@@ -221,6 +221,7 @@ class Reader : YamlFields {
                 "path_following",
                 "cosimulation",
                 "saddle_point_solver",
+                "support_rows",
                 "linear_solver"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
@@ -309,6 +310,14 @@ class Reader : YamlFields {
              "unknown solver \"" + name + "\" (valid: auto, lu, augmented_lagrangian)");
     }
     if (const auto v = n["linear_solver"]) read_linear_solver(v, s);
+    if (const auto v = n["support_rows"]) {
+      const std::string name = string(v, "solver.support_rows");
+      if (name == "multipliers")
+        s.support_rows_as_multipliers = true;
+      else if (name != "auto")
+        fail(v, "solver.support_rows",
+             "unknown choice \"" + name + "\" (valid: auto, multipliers)");
+    }
     if (const auto v = n["path_following"]) read_path_following(v, s);
     if (const auto v = n["cosimulation"]) read_cosimulation(v, s);
     // The step count of the file's own dt and t_end (command-line overrides: app load()).

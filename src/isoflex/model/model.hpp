@@ -518,6 +518,10 @@ struct Solver {
   LinearSolver linear_solver = LinearSolver::automatic;                  // static analyses only
   PathFollowing path;                                                    // static analyses only
   std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
+  // Static analyses: the homogeneous rows of the Kirchhoff–Love supports (symmetry and clamp
+  // slopes) tied where a PETSc solver takes the Newton matrix (false, `support_rows: auto`), or
+  // always multiplier rows (true, `support_rows: multipliers`).
+  bool support_rows_as_multipliers = false;
 };
 
 // How the .vtu files hold their arrays: raw bytes in an appended section, or text.

@@ -210,6 +210,7 @@ LinearConstraints KLBoundaryConditions::constraints() const {
     }
   }
   const int m_plane = m;
+  out.homogeneous.assign(static_cast<std::size_t>(m_plane), true);  // d = 0 (below)
 
   // Weak edges: row (edge, function j, component k) = Σ_q w_q R_j R_A (x_{A,k} − X_{A,k}).
   struct WeakRow {

@@ -26,11 +26,19 @@ struct LinearConstraints {
   std::function<VecX(double)> rhs;
   // Labels of the multiplier rows (for messages), optional.
   std::vector<std::string> row_labels;
+  // Per row of C (optional; missing entries false): d_i(t) ≡ 0, a homogeneous row (the slope rows
+  // of symmetry planes and clamps), which a solver may eliminate as a tied row instead of giving
+  // it a multiplier (the static solver does for its PETSc solvers, docs/theory/solvers.md §7).
+  std::vector<bool> homogeneous;
   // Tied rows: each a list of (dof, a_j) with Σ a_j (x_j − X_j) = 0. Independent or not: the
   // DofMap picks a slave per row and drops the rows that the others imply.
   std::vector<std::vector<std::pair<int, double>>> tied;
 
   int multipliers() const { return static_cast<int>(C.rows()); }
+  bool is_homogeneous(int row) const {
+    return static_cast<std::size_t>(row) < homogeneous.size() &&
+           homogeneous[static_cast<std::size_t>(row)];
+  }
   // Adds an eliminated dof (keeps the list sorted; a dof already eliminated is replaced).
   void eliminate(int dof, std::function<double(double)> value = {});
 };

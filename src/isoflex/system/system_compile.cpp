@@ -1287,6 +1287,8 @@ void System::add_linear_constraints(const LinearConstraints& local, const std::v
     linear_.row_labels.push_back(static_cast<std::size_t>(r) < local.row_labels.size()
                                      ? local.row_labels[static_cast<std::size_t>(r)]
                                      : std::string());
+  linear_.homogeneous.resize(static_cast<std::size_t>(m0), false);
+  for (int r : kept) linear_.homogeneous.push_back(local.is_homogeneous(r));
 }
 
 }  // namespace isoflex::system
