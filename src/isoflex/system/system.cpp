@@ -223,25 +223,18 @@ double System::potential(const VecX& q) const {
 }
 
 VecX System::discrete_force(const VecX& qn, const VecX& qn1, double t_mid, SpMat* K) const {
-  VecX f = VecX::Zero(n());
-  if (K) stiffness_.reset(*K);
-  add_element_forces(
+  return midpoint_forces(
       [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
         return e.discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes), values);
       },
-      f, K);
-  // Loads at the midpoint, f_ext(q_{n+½}, t_{n+½}); their part of ∂f/∂qₙ₊₁ is −½ ∂f_ext/∂q.
-  add_load_forces(0.5 * (qn + qn1), t_mid, 0.5, f, K, nullptr);
-  return f;
+      qn, qn1, t_mid, K);
 }
 
 VecX System::mixed_discrete_force(const VecX& qn, const VecX& qn1, const VecX* q_lin, double t_mid,
                                   SpMat* K, VecX& stress_force) const {
-  VecX f = VecX::Zero(n());
-  if (K) stiffness_.reset(*K);
   stress_force.setZero(n());
   VecX local;
-  add_element_forces(
+  return midpoint_forces(
       [&](const elements::Element& e, const std::vector<int>& nodes, double* values) {
         const VecX ql = q_lin ? stacked(*q_lin, nodes) : VecX();
         VecX dv = e.mixed_discrete_gradient_in_pattern(stacked(qn, nodes), stacked(qn1, nodes),
@@ -249,7 +242,15 @@ VecX System::mixed_discrete_force(const VecX& qn, const VecX& qn1, const VecX* q
         add_stacked(nodes, local, stress_force);
         return dv;
       },
-      f, K);
+      qn, qn1, t_mid, K);
+}
+
+VecX System::midpoint_forces(const ElementKernel& kernel, const VecX& qn, const VecX& qn1,
+                             double t_mid, SpMat* K) const {
+  VecX f = VecX::Zero(n());
+  if (K) stiffness_.reset(*K);
+  add_element_forces(kernel, f, K);
+  // Loads at the midpoint, f_ext(q_{n+½}, t_{n+½}); their part of ∂f/∂qₙ₊₁ is −½ ∂f_ext/∂q.
   add_load_forces(0.5 * (qn + qn1), t_mid, 0.5, f, K, nullptr);
   return f;
 }

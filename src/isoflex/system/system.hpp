@@ -430,6 +430,10 @@ class System {
   void add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
                           Kernels kernels = Kernels::all_overwriting) const;
   void add_load_forces(const VecX& q, double t, double c, VecX& f, SpMat* K, VecX* fext) const;
+  // The kernel's element forces and the loads at the midpoint (discrete_force and its mixed
+  // variant), K reset to the fixed pattern first.
+  VecX midpoint_forces(const ElementKernel& kernel, const VecX& qn, const VecX& qn1, double t_mid,
+                       SpMat* K) const;
   // Compile phases (system_compile.cpp), in this order; Build carries what they pass on.
   struct Build;
   void add_bodies(Build& build);
