@@ -463,7 +463,11 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
                       (sys_.mass() * s.v).lpNorm<Eigen::Infinity>();
   const double ref = residual_scale(s, c.dt, full), full_ref = std::max(1.0, full);
   const double qscale = std::max(1.0, s.q.lpNorm<Eigen::Infinity>());
-  NewtonMatrix J;
+  // Kept across steps: the block path's matrix stays in its fixed pattern (one copy of the
+  // pattern per run, not per step).
+  NewtonMatrix& J = newton_matrix_;
+  J.row = J.col = 0;
+  J.tree = J.blocks = false;
   const bool fast = bordered_ || tree_.has_value();
   // Newton from the extrapolation qₙ + Δt vₙ and the secant qₙ + (qₙ − qₙ₋₁), the one the last
   // step converged from first, then from qₙ. The step equations are the same, only the start

@@ -145,6 +145,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   mutable solve::NormalEquations normal_equations_;
   mutable solve::FixedPatternLU newton_lu_;  // keeps its column ordering while J keeps its pattern
   mutable VecX residual_, correction_, minus_residual_;  // workspaces of evaluate and correction
+  mutable NewtonMatrix newton_matrix_;                   // attempt's Newton matrix
   // The last iterate of the step's Newton iteration, where the mixed tangent linearizes the
   // strains (none yet at a start).
   mutable VecX last_iterate_;
