@@ -156,30 +156,26 @@ Mat<BeamElement::kCoords, 6> BeamElement::strain_jacobian_transpose(const Q& q) 
     // multiply-add rounds the same way (h₀a + h₁b written as such would be contracted the other
     // way round).
     for (const int o : zero_slots_) out[o] = out[o + 1] = out[o + 2] = 0.0;
+    const auto add = [](double(&sum)[3], double h, const double* a) {
+      sum[0] += h * a[0];
+      sum[1] += h * a[1];
+      sum[2] += h * a[2];
+    };
+    const auto store = [](double* o, const double(&sum)[3]) {
+      o[0] = sum[0];
+      o[1] = sum[1];
+      o[2] = sum[2];
+    };
     for (const SlotEntries& p : singles_) {
-      const double* a = in + p.in0;
-      double o0 = 0.0, o1 = 0.0, o2 = 0.0;
-      o0 += p.h0 * a[0];
-      o1 += p.h0 * a[1];
-      o2 += p.h0 * a[2];
-      double* o = out + p.out;
-      o[0] = o0;
-      o[1] = o1;
-      o[2] = o2;
+      double sum[3] = {0.0, 0.0, 0.0};
+      add(sum, p.h0, in + p.in0);
+      store(out + p.out, sum);
     }
     for (const SlotEntries& p : pairs_) {
-      const double *a = in + p.in0, *b = in + p.in1;
-      double o0 = 0.0, o1 = 0.0, o2 = 0.0;
-      o0 += p.h0 * a[0];
-      o1 += p.h0 * a[1];
-      o2 += p.h0 * a[2];
-      o0 += p.h1 * b[0];
-      o1 += p.h1 * b[1];
-      o2 += p.h1 * b[2];
-      double* o = out + p.out;
-      o[0] = o0;
-      o[1] = o1;
-      o[2] = o2;
+      double sum[3] = {0.0, 0.0, 0.0};
+      add(sum, p.h0, in + p.in0);
+      add(sum, p.h1, in + p.in1);
+      store(out + p.out, sum);
     }
     return Bt;
   }
