@@ -50,6 +50,14 @@ std::string roof(const std::string& solver, bool nonlinear, int knots = 10) {
   return m;
 }
 
+// A model of bench/large_shells at `knots` per span, with a VTK file per step.
+std::string bench_model(const std::string& file, int knots) {
+  const std::string m = read_text(ISOFLEX_SOURCE_DIR "/bench/large_shells/" + file);
+  const std::string k = std::to_string(knots);
+  return replaced(replaced(m, "knots_per_span: [40, 40]", "knots_per_span: [" + k + ", " + k + "]"),
+                  "output: {vtk_every: 0}", "output: {vtk_every: 1}");
+}
+
 struct Runs {
   isoflex::test::TempDir dir;
   fs::path model;
@@ -200,8 +208,35 @@ TEST(CliMpi, DirectStopsAndAutoSaysWhatItPicks) {
       std::string::npos);
 }
 
-// What is not distributed stops with the reason: a dynamic run, a model with constraint rows
-// (the quarter roof's symmetry supports are multiplier rows of the linear conditions).
+// The quarter roof's symmetry rows (homogeneous support rows) are tied on every rank alike, as
+// in the serial run: the two-rank run is the serial one, by CG with geometric multigrid on the
+// tied unknowns (two levels at k = 36: 4 800 coordinates).
+TEST(CliMpi, TwoRanksTieTheSymmetryRowsAndGiveTheSerialSolution) {
+  ISOFLEX_REQUIRE_PETSC();
+  ISOFLEX_REQUIRE_MPIRUN();
+  const Runs runs("quarter", bench_model("scordelis_lo_quarter.yaml", 36));
+  const CliResult s = runs.serial();
+  ASSERT_EQ(s.code, 0) << s.out;
+  const CliResult p = runs.two_ranks();
+  ASSERT_EQ(p.code, 0) << p.out;
+  expect_serial_results(runs, 1e-8);
+}
+
+// AF-D's G¹ rows tie coordinates of the two-patch roof (and the symmetry rows at its interface
+// that they imply are dropped with the other tied rows): reduced on every rank alike.
+TEST(CliMpi, TwoRanksReduceTheModelsTiedCoordinates) {
+  ISOFLEX_REQUIRE_PETSC();
+  ISOFLEX_REQUIRE_MPIRUN();
+  const Runs runs("two_patch", bench_model("scordelis_lo_two_patch.yaml", 24));
+  const CliResult s = runs.serial();
+  ASSERT_EQ(s.code, 0) << s.out;
+  const CliResult p = runs.two_ranks();
+  ASSERT_EQ(p.code, 0) << p.out;
+  expect_serial_results(runs, 1e-8);
+}
+
+// What is not distributed stops with the reason, before anything is written: a dynamic run, the
+// supports' rows kept as multipliers (support_rows: multipliers), a weak prescribed displacement.
 TEST(CliMpi, WhatIsNotDistributedStopsWithTheReason) {
   ISOFLEX_REQUIRE_PETSC();
   ISOFLEX_REQUIRE_MPIRUN();
@@ -214,13 +249,26 @@ TEST(CliMpi, WhatIsNotDistributedStopsWithTheReason) {
   EXPECT_NE(d.out.find("error: 2 MPI ranks: dynamic analyses run on one process only"),
             std::string::npos)
       << d.out;
-  const Runs quarter("quarter", replaced(read_text(ISOFLEX_SOURCE_DIR
-                                                   "/bench/large_shells/scordelis_lo_quarter.yaml"),
-                                         "knots_per_span: [40, 40]", "knots_per_span: [6, 6]"));
-  const CliResult q = quarter.two_ranks();
+  const std::string quarter = bench_model("scordelis_lo_quarter.yaml", 6);
+  const Runs multipliers("multipliers", replaced(quarter, "  linear: true\n",
+                                                 "  linear: true\n  support_rows: multipliers\n"));
+  const CliResult q = multipliers.two_ranks();
   EXPECT_NE(q.code, 0) << q.out;
-  EXPECT_NE(q.out.find("error: 2 MPI ranks: "), std::string::npos) << q.out;
+  EXPECT_NE(q.out.find("error: 2 MPI ranks: solver.support_rows: multipliers keeps the supports' "),
+            std::string::npos)
+      << q.out;
   EXPECT_NE(q.out.find("solved on one process only"), std::string::npos) << q.out;
+  EXPECT_FALSE(fs::exists(multipliers.rank_out(0)));
+  const Runs weak("weak", replaced(quarter, "fixed: [x, y]}",
+                                   "fixed: [x, y]}\n  - {shell: roof, edge: u0, displacement: "
+                                   "[0, \"-0.01*t\", 0]}"));
+  const CliResult w = weak.two_ranks();
+  EXPECT_NE(w.code, 0) << w.out;
+  EXPECT_NE(w.out.find("error: 2 MPI ranks: the supports have "), std::string::npos) << w.out;
+  EXPECT_NE(w.out.find("rows with a prescribed value or a weak condition (the first: "),
+            std::string::npos)
+      << w.out;
+  EXPECT_FALSE(fs::exists(weak.rank_out(0)));
 }
 
 // A failure of rank 0 alone (it alone writes) ends every rank, instead of leaving the others

@@ -86,3 +86,105 @@ TEST(KLMultigrid, CoarseFunctionsAreFunctionsOfTheFinePatch) {
     }
   }
 }
+
+namespace {
+
+// Patch k's own interpolation from its coarse control points at level `levels` (1: the first
+// coarse level) to its fine ones, one coordinate: the product of the knot insertions, divided by
+// the fine weights (kl_multigrid.hpp).
+MatX own_chain(const geometry::NurbsSurface& S, std::size_t levels) {
+  KnotVector fu = S.u, fv = S.v;
+  MatX chain = MatX::Identity(S.n_u() * S.n_v(), S.n_u() * S.n_v());
+  for (std::size_t l = 0; l < levels; ++l) {
+    const KnotVector cu = geometry::coarsen(fu).value_or(fu),
+                     cv = geometry::coarsen(fv).value_or(fv);
+    const MatX Au = MatX(geometry::knot_insertion_matrix(cu, fu)),
+               Av = MatX(geometry::knot_insertion_matrix(cv, fv));
+    MatX A = MatX::Zero(Au.rows() * Av.rows(), Au.cols() * Av.cols());
+    for (Eigen::Index j = 0; j < Av.rows(); ++j)
+      for (Eigen::Index b = 0; b < Av.cols(); ++b)
+        A.block(j * Au.rows(), b * Au.cols(), Au.rows(), Au.cols()) = Av(j, b) * Au;
+    chain = chain * A;
+    fu = cu;
+    fv = cv;
+  }
+  for (Eigen::Index i = 0; i < chain.rows(); ++i)
+    chain.row(i) /= S.weights[static_cast<std::size_t>(i)];
+  return chain;
+}
+
+// Every coarse field of every level, interpolated to the fine level, is on each patch a coarse
+// function of that patch (x_k = L_k z for some z, L_k the patch's own chain): where patches share
+// control points (an interface, a seam) the coarse points on both sides are one, so that the fine
+// field is continuous and in each patch's coarse space. Summing the rows of a shared point (or
+// taking them from one side with the coarse points left apart) leaves the field outside.
+void expect_coarse_fields_in_every_patch(const char* model, std::size_t patches) {
+  const model::Model m = io::read_model_string(model, "m.yaml");
+  const system::System sys = system::System::compile(m);
+  ASSERT_EQ(sys.kl_patches().size(), patches);
+  const std::vector<SpMat> transfers = system::kl_transfer_operators(sys, 0);
+  ASSERT_GE(transfers.size(), 2u);
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> u01(-0.5, 0.5);
+  SpMat chain = transfers[0];
+  for (std::size_t l = 0; l < transfers.size(); ++l) {
+    if (l > 0) chain = SpMat(chain * transfers[l]);
+    VecX c(chain.cols());
+    for (Eigen::Index i = 0; i < c.size(); ++i) c(i) = u01(g);
+    const VecX x = chain * c;
+    for (const system::KLPatchInstance& P : sys.kl_patches()) {
+      const MatX L = own_chain(P.element->patch().reference(), l + 1);
+      const auto qr = L.colPivHouseholderQr();
+      for (int d = 0; d < 3; ++d) {
+        VecX xk(static_cast<Eigen::Index>(P.nodes.size()));
+        for (std::size_t i = 0; i < P.nodes.size(); ++i)
+          xk(static_cast<Eigen::Index>(i)) = x(sys.q_offset(P.nodes[i]) + d);
+        const VecX z = qr.solve(xk);
+        EXPECT_LT((L * z - xk).norm(), 1e-12 * xk.norm())
+            << P.name << ", level " << l + 1 << ", coordinate " << d;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST(KLMultigrid, CoarseFieldsAcrossAnInterfaceAreCoarseFunctionsOfBothPatches) {
+  // Two flat patches sharing the edge x ∈ [0, 10] at a right angle (examples/kl_l_shaped_plate).
+  const char* kL = R"(
+solver: {analysis: static, dt: 1, t_end: 1, linear: true}
+surfaces:
+  - name: flange
+    builtin: {type: rectangle, corner: [0, 0, 0], edge_u: [10, 0, 0], edge_v: [0, 1, 0]}
+    refine: {elevate: [2, 2], knots_per_span: [15, 7]}
+  - name: web
+    builtin: {type: rectangle, corner: [0, 0, 0], edge_u: [10, 0, 0], edge_v: [0, 0, -3]}
+    refine: {elevate: [2, 2], knots_per_span: [15, 9]}
+kl_shells:
+  - {name: flange, surface: flange, material: {E: 1.2e6, nu: 0, thickness: 0.1}}
+  - {name: web, surface: web, material: {E: 1.2e6, nu: 0, thickness: 0.1}}
+kl_interfaces: {coupling: c0}
+)";
+  expect_coarse_fields_in_every_patch(kL, 2);
+  // The shared edge's coarse points are counted once: 19 control points along it at the fine
+  // level (3 + 16), 11 at the first coarse one (3 + 8).
+  const system::System sys = system::System::compile(io::read_model_string(kL, "l.yaml"));
+  const std::vector<SpMat> transfers = system::kl_transfer_operators(sys, 0);
+  ASSERT_FALSE(transfers.empty());
+  EXPECT_EQ(sys.n(), 3 * (19 * 11 + 19 * 13 - 19));
+  EXPECT_EQ(transfers[0].cols(), 3 * (11 * 7 + 11 * 8 - 11));
+}
+
+TEST(KLMultigrid, CoarseFieldsAcrossASeamAreCoarseFunctionsOfThePatch) {
+  // A closed annulus: its seam's control points are one node each (tests/system/test_kl_seams).
+  expect_coarse_fields_in_every_patch(R"(
+solver: {analysis: static, dt: 1, t_end: 1, linear: true}
+surfaces:
+  - name: ring
+    builtin: {type: annulus, inner_radius: 6, outer_radius: 10, angle: 360}
+    refine: {elevate: [0, 1], knots_per_span: [5, 3]}
+kl_shells:
+  - {name: ring, surface: ring, material: {E: 21.0e6, nu: 0, thickness: 0.03}}
+)",
+                                      1);
+}

@@ -224,10 +224,30 @@ std::string why_not_distributed(const system::System& sys, const model::Solver& 
         "the model has {} constraint rows (patch couplings or joints): their saddle point is "
         "solved on one process only",
         sys.m_selected());
+  // The homogeneous support rows (symmetry planes, clamp slopes) are tied on every rank alike
+  // (StaticNewtonSolver, docs/theory/solvers.md §7), and so are the model's tied coordinates;
+  // the other rows would stay multiplier rows.
   const system::LinearConstraints& c = sys.linear_constraints();
-  if (c.multipliers() > 0 || !c.tied.empty())
-    return "the model's supports have multiplier rows or tied coordinates (weak or rotated "
-           "supports): their saddle point is solved on one process only";
+  const auto label = [&c](int r) {
+    return static_cast<std::size_t>(r) < c.row_labels.size() &&
+                   !c.row_labels[static_cast<std::size_t>(r)].empty()
+               ? c.row_labels[static_cast<std::size_t>(r)]
+               : fmt::format("row {}", r);
+  };
+  if (settings.support_rows_as_multipliers && c.multipliers() > 0)
+    return fmt::format(
+        "solver.support_rows: multipliers keeps the supports' {} rows (the first: {}) as "
+        "multiplier rows, whose saddle point is solved on one process only (leave support_rows "
+        "out to tie them)",
+        c.multipliers(), label(0));
+  std::vector<int> kept;
+  for (int r = 0; r < c.multipliers(); ++r)
+    if (!c.is_homogeneous(r)) kept.push_back(r);
+  if (!kept.empty())
+    return fmt::format(
+        "the supports have {} rows with a prescribed value or a weak condition (the first: {}): "
+        "their saddle point is solved on one process only",
+        kept.size(), label(kept.front()));
   if (has_follower_loads(sys))
     return "follower loads (pressure that turns with the shell) give an unsymmetric matrix, "
            "solved on one process only";

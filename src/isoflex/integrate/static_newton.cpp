@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -116,9 +115,10 @@ struct StaticNewtonSolver::Impl {
             "LinearConstraints: multiplier row {}{} acts on eliminated dofs only", r, label));
       }
     if (problem.distributed) {
-      const char* why = m > 0                  ? "multiplier rows"
-                        : !dofs.slaves.empty() ? "tied coordinates"
-                        : !problem.symmetric   ? "an unsymmetric matrix"
+      // Tied coordinates are not refused: Tᵀ K T is the sum of the ranks' Tᵀ K_r T, and the
+      // residual is whole on every rank before its reduction.
+      const char* why = m > 0                ? "multiplier rows"
+                        : !problem.symmetric ? "an unsymmetric matrix"
                         : settings.linear_solver == LinearSolverMethod::direct ? "the direct solver"
                                                                                : nullptr;
       if (why)
@@ -538,81 +538,47 @@ struct StaticNewtonSolver::Impl {
   }
 
   // problem.transfer_operators on the Newton unknowns (docs/theory/solvers.md §4, §7): at every
-  // level l the unknowns are the free coordinates of a DofMap D_l, and the interpolation is
-  // P̂_l = S_l P_l T_{l+1} — the coarse unknowns expanded to the coarse coordinates by T_{l+1}
-  // (slaves from their masters), interpolated, and the free rows of level l kept (S_l). A coarse
-  // coordinate that reaches no free row is not an unknown (a coarse control point whose fine
-  // image is held), and the coarse ties are the level's own slave rows carried down,
-  // C_{l+1} = C_l P_l (C_l: e_s − Σ_k c_k e_k per slave s of D_l, the held terms dropped), so
-  // that a coarse correction interpolates to one that meets the ties exactly; their dependent
-  // rows (a fine tie per fine control point, a coarse one per coarse) are dropped by the
-  // DofMap's elimination. Without ties this is P_l's rows of the free dofs and the coarse
-  // coordinates that reach them, as it was.
+  // level l the unknowns are the free coordinates (at the fine level the DofMap's, without the
+  // eliminated and the slave ones; with multiplier rows the rows of the augmented block Â), and
+  // the interpolation is P̂_l = S_l P_l, P_l's rows of the level's unknowns. A coarse coordinate
+  // that reaches none is not an unknown (a coarse control point whose fine image is held). The
+  // coarse levels carry no ties: the fine level writes its slaves from their masters (T), so the
+  // coarse space T S_0 P_1 ⋯ lies in the tied fine space whatever the coarse slaves would be.
+  // Ties carried down (C_{l+1} = C_l P_l) kept rows that the others imply to round-off (the
+  // two-patch AF-D roof: 498 rows of rank 478) and cost CG iterations (47 against 19 at
+  // 6.3·10⁴ unknowns, bench/large_shells.md).
   std::vector<SpMat> free_transfer_operators() const {
     if (!problem.transfer_operators)
       throw std::runtime_error(
           "geometric multigrid (cg_multigrid): the model has no Kirchhoff–Love patch to coarsen");
     // Empty for a model small enough to be its own coarsest level.
     std::vector<SpMat> P = problem.transfer_operators();
-    using Row = std::vector<std::pair<int, double>>;
-    // Level index → unknown (−1: held or a slave): the free configuration dofs (with multiplier
-    // rows, the rows of the augmented block Â; without, every free dof).
+    // Level index → unknown (−1: held or a slave).
     std::vector<int> rows(static_cast<std::size_t>(n), -1);
     for (int k = 0; k < nf_configuration; ++k)
       rows[static_cast<std::size_t>(dofs.free[static_cast<std::size_t>(k)])] = k;
     int kept_rows = nf_configuration;
-    // The slave rows of a DofMap over the level's coordinates, its free terms only.
-    const auto slave_rows = [](const DofMap& d) {
-      std::vector<Row> out;
-      for (const auto& sl : d.slaves) {
-        Row r{{sl.dof, 1.0}};
-        for (const auto& [k, c] : sl.terms)
-          if (d.full_to_free[static_cast<std::size_t>(k)] >= 0) r.emplace_back(k, -c);
-        out.push_back(std::move(r));
-      }
-      return out;
-    };
-    std::vector<Row> ties = slave_rows(dofs);
     for (SpMat& Pl : P) {
       const int n_coarse = static_cast<int>(Pl.cols());
-      // The coarse coordinates that reach a free row, and C_l P_l row by row.
-      std::vector<std::vector<std::pair<int, double>>> uses(static_cast<std::size_t>(Pl.rows()));
-      for (std::size_t r = 0; r < ties.size(); ++r)
-        for (const auto& [i, c] : ties[r]) uses[static_cast<std::size_t>(i)].emplace_back(r, c);
-      std::vector<bool> reaches(static_cast<std::size_t>(n_coarse), false);
-      std::vector<std::map<int, double>> coarse_ties(ties.size());
+      std::vector<int> coarse(static_cast<std::size_t>(n_coarse), -1);
+      int n_kept = 0;
       for (int j = 0; j < Pl.outerSize(); ++j)
-        for (SpMat::InnerIterator it(Pl, j); it; ++it) {
-          if (rows[static_cast<std::size_t>(it.row())] >= 0)
-            reaches[static_cast<std::size_t>(j)] = true;
-          for (const auto& [r, c] : uses[static_cast<std::size_t>(it.row())])
-            coarse_ties[static_cast<std::size_t>(r)][j] += c * it.value();
-        }
-      std::vector<int> held;
-      for (int j = 0; j < n_coarse; ++j)
-        if (!reaches[static_cast<std::size_t>(j)]) held.push_back(j);
-      std::vector<Row> tied;
-      for (const auto& t : coarse_ties) {
-        Row r;
-        for (const auto& [j, c] : t)
-          if (c != 0.0) r.emplace_back(j, c);
-        if (!r.empty()) tied.push_back(std::move(r));
-      }
-      const DofMap coarse = DofMap::build(n_coarse, held, tied);
-      std::vector<Eigen::Triplet<double>> t;
-      for (int j = 0; j < Pl.outerSize(); ++j) {
-        const auto expansion = coarse.expansion(j);
-        if (expansion.empty()) continue;
         for (SpMat::InnerIterator it(Pl, j); it; ++it)
-          if (const int r = rows[static_cast<std::size_t>(it.row())]; r >= 0)
-            for (const auto& [f, w] : expansion) t.emplace_back(r, f, w * it.value());
-      }
-      Pl = SpMat(kept_rows, coarse.n_free());
+          if (rows[static_cast<std::size_t>(it.row())] >= 0) {
+            coarse[static_cast<std::size_t>(j)] = n_kept++;
+            break;
+          }
+      std::vector<Eigen::Triplet<double>> t;
+      for (int j = 0; j < Pl.outerSize(); ++j)
+        if (const int c = coarse[static_cast<std::size_t>(j)]; c >= 0)
+          for (SpMat::InnerIterator it(Pl, j); it; ++it)
+            if (const int r = rows[static_cast<std::size_t>(it.row())]; r >= 0)
+              t.emplace_back(r, c, it.value());
+      Pl = SpMat(kept_rows, n_kept);
       Pl.setFromTriplets(t.begin(), t.end());
       Pl.makeCompressed();
-      rows = coarse.full_to_free;
-      kept_rows = coarse.n_free();
-      ties = slave_rows(coarse);
+      rows = std::move(coarse);
+      kept_rows = n_kept;
     }
     return P;
   }
@@ -914,7 +880,7 @@ StaticNewtonSolver::StaticNewtonSolver(StaticProblem problem, LinearConstraints 
   bool tie = false;
   for (int r = 0; r < I.original_rows && !tie; ++r) tie = I.cons.is_homogeneous(r);
   tie = tie && s.tie_homogeneous_rows && s.linear_solver != LinearSolverMethod::direct &&
-        I.problem.symmetric && !I.problem.distributed;
+        I.problem.symmetric;
   if (tie) {
     LinearConstraints kept = I.cons;
     I.tie_homogeneous_rows();

@@ -14,9 +14,12 @@ class System;
 
 // P_1 (n × n_1), P_2 (n_1 × n_2), …, the coarsest last: the fine coefficients from the coarse
 // ones, x_l = P_{l+1} x_{l+1}. Every coordinate of q that is not a control point of a patch
-// passes to each coarse level unchanged (first, in its order), then each patch's coarse control
-// points (x, y, z each). Levels are added while the patches coarsen and the level has more than
-// `coarsest_unknowns` unknowns. Empty if no patch coarsens at all.
+// passes to each coarse level unchanged (first, in its order), then the coarse points (x, y, z
+// each): each patch's coarse control points, those of different patches (or of a seam) that
+// interpolate the same values to the fine points they share merged into one, so that the coarse
+// space is continuous where the fine one is; a fine point shared by several control points takes
+// its row from the first of them. Levels are added while the patches coarsen and the level has more
+// than `coarsest_unknowns` unknowns. Empty if no patch coarsens at all.
 std::vector<Eigen::SparseMatrix<double>> kl_transfer_operators(const System& sys,
                                                                int coarsest_unknowns = 3000);
 
