@@ -298,8 +298,8 @@ TEST(StaticPetsc, TiedSymmetryRowsAgreeWithTheDirectSaddlePoint) {
 }
 
 // The one-eighth pinched cylinder (bench/large_shells/pinched_cylinder.yaml, 1.2·10⁴ unknowns,
-// three levels): with the symmetry rows tied, the multigrid's interpolations keep the free rows
-// (P̂ = S P), and CG takes about as many iterations as on a model without rows (16); with
+// three levels): with the symmetry rows tied, the multigrid's interpolations follow the ties
+// (P̂ = S P T_c), and CG takes about as many iterations as on a model without rows (16); with
 // the rows as multipliers FGMRES on the saddle point takes 32. Both agree with the direct
 // solver (here to the resolution of the coordinates: a displacement of 1.8·10⁻⁵ on coordinates
 // of 300 is resolved to 3·10⁻⁹ of itself).
@@ -330,9 +330,10 @@ TEST(StaticPetsc, MultigridWithTiedSymmetryRowsConvergesInFewIterations) {
 
 // The two-patch AF-D roof of bench/large_shells/scordelis_lo_two_patch.yaml at k = 100 (6.3·10⁴
 // unknowns, four levels): the coarse control points on the interface are one (kl_multigrid.hpp)
-// and the coarse levels carry no ties, so CG takes as many iterations as on the quarter roof of
-// one patch (20): 19 measured; 45 when the shared points' rows were summed over both patches and
-// the ties carried down to the coarse levels. The Newton iteration checks the solve's residual.
+// and only the supports' ties are carried to the coarse levels, not AF-D's, so CG takes about as
+// many iterations as on the quarter roof of one patch (20): 26 measured; 45 when the shared
+// points' rows were summed over both patches and all ties carried down, 47 with the points merged
+// and all ties carried. The Newton iteration checks the solve's residual.
 TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
   ISOFLEX_REQUIRE_PETSC();
   const SolvedModel afd = solve_model(repository_model(
@@ -342,7 +343,7 @@ TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
   EXPECT_EQ(afd.solver, "cg_multigrid");
   EXPECT_EQ(afd.fallbacks, 0);
   EXPECT_GT(afd.krylov_iterations, 0);
-  EXPECT_LE(afd.krylov_iterations, 25);
+  EXPECT_LE(afd.krylov_iterations, 32);
 }
 
 // `auto` (integrate::kAutomaticMultigridUnknowns): geometric multigrid for patches without rows

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -538,47 +539,89 @@ struct StaticNewtonSolver::Impl {
   }
 
   // problem.transfer_operators on the Newton unknowns (docs/theory/solvers.md §4, §7): at every
-  // level l the unknowns are the free coordinates (at the fine level the DofMap's, without the
-  // eliminated and the slave ones; with multiplier rows the rows of the augmented block Â), and
-  // the interpolation is P̂_l = S_l P_l, P_l's rows of the level's unknowns. A coarse coordinate
-  // that reaches none is not an unknown (a coarse control point whose fine image is held). The
-  // coarse levels carry no ties: the fine level writes its slaves from their masters (T), so the
-  // coarse space T S_0 P_1 ⋯ lies in the tied fine space whatever the coarse slaves would be.
-  // Ties carried down (C_{l+1} = C_l P_l) kept rows that the others imply to round-off (the
-  // two-patch AF-D roof: 498 rows of rank 478) and cost CG iterations (47 against 19 at
-  // 6.3·10⁴ unknowns, bench/large_shells.md).
+  // level l the unknowns are the free coordinates of a DofMap D_l, and the interpolation is
+  // P̂_l = S_l P_l T_{l+1} — the coarse unknowns expanded to the coarse coordinates by T_{l+1}
+  // (slaves from their masters), interpolated, and the free rows of level l kept (S_l). A coarse
+  // coordinate that reaches no free row is not an unknown (a coarse control point whose fine
+  // image is held). The supports' ties (the homogeneous rows tied, reaction_slaves) are carried
+  // down, C_{l+1} = C_l P_l (C_l: e_s − Σ_k c_k e_k per slave s of D_l, the held terms dropped),
+  // so that a coarse correction interpolates to one that meets them exactly; their dependent rows
+  // are dropped by the DofMap's elimination. The model's own ties (AF-D's G¹ rows) are not: the
+  // fine level writes its slaves from their masters (T) whatever the coarse ones would be, and
+  // carried down they ask the coarse splines of both patches to be G¹ at every fine triple, which
+  // locks the coarse space at the interface (the two-patch roof: 47 CG iterations instead of 26
+  // at 6.3·10⁴ unknowns, 87 instead of 27 at 2·10⁵; bench/large_shells.md). Without ties this is
+  // P_l's rows of the free dofs and the coarse coordinates that reach them.
   std::vector<SpMat> free_transfer_operators() const {
     if (!problem.transfer_operators)
       throw std::runtime_error(
           "geometric multigrid (cg_multigrid): the model has no Kirchhoff–Love patch to coarsen");
     // Empty for a model small enough to be its own coarsest level.
     std::vector<SpMat> P = problem.transfer_operators();
-    // Level index → unknown (−1: held or a slave).
+    using Row = std::vector<std::pair<int, double>>;
+    // Level index → unknown (−1: held or a slave): the free configuration dofs (with multiplier
+    // rows, the rows of the augmented block Â; without, every free dof).
     std::vector<int> rows(static_cast<std::size_t>(n), -1);
     for (int k = 0; k < nf_configuration; ++k)
       rows[static_cast<std::size_t>(dofs.free[static_cast<std::size_t>(k)])] = k;
     int kept_rows = nf_configuration;
+    // The slave rows of a DofMap over the level's coordinates, its free terms only.
+    const auto slave_rows = [](const DofMap& d) {
+      std::vector<Row> out;
+      for (const auto& sl : d.slaves) {
+        Row r{{sl.dof, 1.0}};
+        for (const auto& [k, c] : sl.terms)
+          if (d.full_to_free[static_cast<std::size_t>(k)] >= 0) r.emplace_back(k, -c);
+        out.push_back(std::move(r));
+      }
+      return out;
+    };
+    // The supports' ties only (reaction_slaves: the homogeneous rows tied); the model's own (AF-D)
+    // are left to the fine level's T.
+    std::vector<Row> ties;
+    for (const Row& r : slave_rows(dofs))
+      if (std::binary_search(reaction_slaves.begin(), reaction_slaves.end(), r.front().first))
+        ties.push_back(r);
     for (SpMat& Pl : P) {
       const int n_coarse = static_cast<int>(Pl.cols());
-      std::vector<int> coarse(static_cast<std::size_t>(n_coarse), -1);
-      int n_kept = 0;
+      // The coarse coordinates that reach a free row, and C_l P_l row by row.
+      std::vector<std::vector<std::pair<int, double>>> uses(static_cast<std::size_t>(Pl.rows()));
+      for (std::size_t r = 0; r < ties.size(); ++r)
+        for (const auto& [i, c] : ties[r]) uses[static_cast<std::size_t>(i)].emplace_back(r, c);
+      std::vector<bool> reaches(static_cast<std::size_t>(n_coarse), false);
+      std::vector<std::map<int, double>> coarse_ties(ties.size());
       for (int j = 0; j < Pl.outerSize(); ++j)
-        for (SpMat::InnerIterator it(Pl, j); it; ++it)
-          if (rows[static_cast<std::size_t>(it.row())] >= 0) {
-            coarse[static_cast<std::size_t>(j)] = n_kept++;
-            break;
-          }
+        for (SpMat::InnerIterator it(Pl, j); it; ++it) {
+          if (rows[static_cast<std::size_t>(it.row())] >= 0)
+            reaches[static_cast<std::size_t>(j)] = true;
+          for (const auto& [r, c] : uses[static_cast<std::size_t>(it.row())])
+            coarse_ties[static_cast<std::size_t>(r)][j] += c * it.value();
+        }
+      std::vector<int> held;
+      for (int j = 0; j < n_coarse; ++j)
+        if (!reaches[static_cast<std::size_t>(j)]) held.push_back(j);
+      std::vector<Row> tied;
+      for (const auto& t : coarse_ties) {
+        Row r;
+        for (const auto& [j, c] : t)
+          if (c != 0.0) r.emplace_back(j, c);
+        if (!r.empty()) tied.push_back(std::move(r));
+      }
+      const DofMap coarse = DofMap::build(n_coarse, held, tied);
       std::vector<Eigen::Triplet<double>> t;
-      for (int j = 0; j < Pl.outerSize(); ++j)
-        if (const int c = coarse[static_cast<std::size_t>(j)]; c >= 0)
-          for (SpMat::InnerIterator it(Pl, j); it; ++it)
-            if (const int r = rows[static_cast<std::size_t>(it.row())]; r >= 0)
-              t.emplace_back(r, c, it.value());
-      Pl = SpMat(kept_rows, n_kept);
+      for (int j = 0; j < Pl.outerSize(); ++j) {
+        const auto expansion = coarse.expansion(j);
+        if (expansion.empty()) continue;
+        for (SpMat::InnerIterator it(Pl, j); it; ++it)
+          if (const int r = rows[static_cast<std::size_t>(it.row())]; r >= 0)
+            for (const auto& [f, w] : expansion) t.emplace_back(r, f, w * it.value());
+      }
+      Pl = SpMat(kept_rows, coarse.n_free());
       Pl.setFromTriplets(t.begin(), t.end());
       Pl.makeCompressed();
-      rows = std::move(coarse);
-      kept_rows = n_kept;
+      rows = coarse.full_to_free;
+      kept_rows = coarse.n_free();
+      ties = slave_rows(coarse);
     }
     return P;
   }
