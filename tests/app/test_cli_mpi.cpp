@@ -149,6 +149,16 @@ void expect_serial_results(const Runs& runs, double rtol) {
   EXPECT_TRUE(fs::is_empty(runs.dir.path() / "rank1")) << "rank 1 wrote outputs";
 }
 
+// `text` run on one process and on two ranks, both to the end, with the same results (1e-8).
+void expect_two_ranks_as_serial(const std::string& name, const std::string& text) {
+  const Runs runs(name, text);
+  const CliResult s = runs.serial();
+  ASSERT_EQ(s.code, 0) << s.out;
+  const CliResult p = runs.two_ranks();
+  ASSERT_EQ(p.code, 0) << p.out;
+  expect_serial_results(runs, 1e-8);
+}
+
 }  // namespace
 
 TEST(CliMpi, TwoRanksGiveTheSerialNonlinearSolution) {
@@ -174,12 +184,7 @@ TEST(CliMpi, TwoRanksGiveTheSerialLinearSolutionWithEachPetscSolver) {
   ISOFLEX_REQUIRE_MPIRUN();
   for (const char* solver : {"cg_gamg", "cg_hypre", "mumps"}) {
     SCOPED_TRACE(solver);
-    const Runs runs(solver, roof(solver, false));
-    const CliResult s = runs.serial();
-    ASSERT_EQ(s.code, 0) << s.out;
-    const CliResult p = runs.two_ranks();
-    ASSERT_EQ(p.code, 0) << p.out;
-    expect_serial_results(runs, 1e-8);
+    expect_two_ranks_as_serial(solver, roof(solver, false));
   }
 }
 
@@ -214,12 +219,7 @@ TEST(CliMpi, DirectStopsAndAutoSaysWhatItPicks) {
 TEST(CliMpi, TwoRanksTieTheSymmetryRowsAndGiveTheSerialSolution) {
   ISOFLEX_REQUIRE_PETSC();
   ISOFLEX_REQUIRE_MPIRUN();
-  const Runs runs("quarter", bench_model("scordelis_lo_quarter.yaml", 36));
-  const CliResult s = runs.serial();
-  ASSERT_EQ(s.code, 0) << s.out;
-  const CliResult p = runs.two_ranks();
-  ASSERT_EQ(p.code, 0) << p.out;
-  expect_serial_results(runs, 1e-8);
+  expect_two_ranks_as_serial("quarter", bench_model("scordelis_lo_quarter.yaml", 36));
 }
 
 // AF-D's G¹ rows tie coordinates of the two-patch roof (and the symmetry rows at its interface
@@ -227,12 +227,7 @@ TEST(CliMpi, TwoRanksTieTheSymmetryRowsAndGiveTheSerialSolution) {
 TEST(CliMpi, TwoRanksReduceTheModelsTiedCoordinates) {
   ISOFLEX_REQUIRE_PETSC();
   ISOFLEX_REQUIRE_MPIRUN();
-  const Runs runs("two_patch", bench_model("scordelis_lo_two_patch.yaml", 24));
-  const CliResult s = runs.serial();
-  ASSERT_EQ(s.code, 0) << s.out;
-  const CliResult p = runs.two_ranks();
-  ASSERT_EQ(p.code, 0) << p.out;
-  expect_serial_results(runs, 1e-8);
+  expect_two_ranks_as_serial("two_patch", bench_model("scordelis_lo_two_patch.yaml", 24));
 }
 
 // What is not distributed stops with the reason, before anything is written: a dynamic run, the
