@@ -346,6 +346,31 @@ TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
   EXPECT_LE(afd.krylov_iterations, 32);
 }
 
+// `auto` with tied coordinates of the model's own (AF-D), on a synthetic problem of that size
+// (a model of 4·10⁵ unknowns takes half a minute to compile): the direct solver below
+// kAutomaticTiedMultigridUnknowns free dofs, geometric multigrid from there on, and the direct
+// solver while multiplier rows remain.
+TEST(StaticPetsc, AutomaticTakesMultigridForTiedCoordinatesFromTheirThreshold) {
+  ISOFLEX_REQUIRE_PETSC();
+  const auto chosen = [](int free, bool rows) {
+    integrate::StaticProblem pb;
+    const int n = free + 1;  // one slave
+    pb.reference = VecX::Zero(n);
+    pb.evaluate = [](const VecX&, double, bool, integrate::ResidualEvaluation&) {};
+    pb.transfer_operators = [] { return std::vector<Eigen::SparseMatrix<double>>{}; };
+    system::LinearConstraints c;
+    c.tied.push_back({{0, 1.0}, {1, -1.0}});
+    c.C.resize(rows ? 1 : 0, n);
+    if (rows) c.C.insert(0, 2) = 1.0;
+    const integrate::StaticNewtonSolver solver(std::move(pb), std::move(c), {});
+    EXPECT_EQ(solver.dofs().n_free(), free);
+    return std::string(solver.linear_solver());
+  };
+  EXPECT_EQ(chosen(integrate::kAutomaticTiedMultigridUnknowns - 1, false), "direct");
+  EXPECT_EQ(chosen(integrate::kAutomaticTiedMultigridUnknowns, false), "cg_multigrid");
+  EXPECT_EQ(chosen(integrate::kAutomaticTiedMultigridUnknowns, true), "direct");
+}
+
 // `auto` (integrate::kAutomaticMultigridUnknowns): geometric multigrid for patches without rows
 // from 50 000 unknowns on, the direct solver below; with weak supports' multiplier rows from
 // 100 000 free dofs on (kAutomaticSaddlePointMultigridUnknowns).

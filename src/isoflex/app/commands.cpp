@@ -268,7 +268,9 @@ void print_static_check(const system::System& sys, const model::Solver& solver, 
     fmt::print(out, "linear solver    {}  (PETSc{}; docs/theory/solvers.md)\n", solver_name,
                solver.linear_solver == model::LinearSolver::automatic
                    ? fmt::format(", chosen by size: geometric multigrid from {} unknowns",
-                                 integrate::kAutomaticMultigridUnknowns)
+                                 sys.linear_constraints().tied.empty()
+                                     ? integrate::kAutomaticMultigridUnknowns
+                                     : integrate::kAutomaticTiedMultigridUnknowns)
                    : "");
 }
 

@@ -402,10 +402,11 @@ struct StaticNewtonSolver::Impl {
   solve::KrylovMethod krylov_method() const { return *petsc; }
 
   // The PETSc solver of settings.linear_solver; automatic: geometric multigrid for a model of
-  // Kirchhoff–Love patches (symmetric, no tied coordinates, the module loads) from
-  // kAutomaticMultigridUnknowns free dofs on without multiplier rows, from
-  // kAutomaticSaddlePointMultigridUnknowns on with the LinearConstraints' rows only (weak
-  // supports: the crossover of bench/large_shells.md); else none (the direct solvers).
+  // Kirchhoff–Love patches (symmetric, the module loads) from kAutomaticMultigridUnknowns free
+  // dofs on without multiplier rows, from kAutomaticSaddlePointMultigridUnknowns on with the
+  // LinearConstraints' rows only (weak supports: the crossover of bench/large_shells.md), from
+  // kAutomaticTiedMultigridUnknowns on with tied coordinates of its own (AF-D) and no rows; else
+  // none (the direct solvers).
   std::optional<solve::KrylovMethod> choose_petsc() const {
     switch (settings.linear_solver) {
       case LinearSolverMethod::cg_gamg:
@@ -425,10 +426,11 @@ struct StaticNewtonSolver::Impl {
     if (problem.distributed)
       return problem.transfer_operators ? solve::KrylovMethod::cg_multigrid
                                         : solve::KrylovMethod::mumps;
-    const int threshold =
-        m > 0 ? kAutomaticSaddlePointMultigridUnknowns : kAutomaticMultigridUnknowns;
+    const int threshold = given_ties ? kAutomaticTiedMultigridUnknowns
+                          : m > 0    ? kAutomaticSaddlePointMultigridUnknowns
+                                     : kAutomaticMultigridUnknowns;
     if (nf < threshold || nf_configuration < nf || !problem.symmetric ||
-        !problem.transfer_operators || given_ties || !solve::krylov_available())
+        !problem.transfer_operators || (given_ties && m > 0) || !solve::krylov_available())
       return std::nullopt;
     return solve::KrylovMethod::cg_multigrid;
   }

@@ -136,14 +136,19 @@ inline constexpr int kIterativeSaddlePointUnknowns = 20000;
 // LoadStepStats::linear_solver_fallbacks. A Newton matrix with multiplier rows goes to the same
 // PETSc solver as a saddle point (docs/theory/solvers.md §5: FGMRES on the augmented Lagrangian
 // with a block preconditioner, the method's preconditioner on the primal block). automatic:
-// geometric multigrid for a model of Kirchhoff–Love patches without tied coordinates (where
-// PETSc loads) from kAutomaticMultigridUnknowns unknowns on if its Newton matrix has no
-// multiplier rows, from kAutomaticSaddlePointMultigridUnknowns on if its only rows are the
-// LinearConstraints' (weak supports; not the problem's own rows, couplings and joints, where it
-// was not measured to pay), else direct: the crossovers of bench/large_shells.md.
+// geometric multigrid for a model of Kirchhoff–Love patches (where PETSc loads) from
+// kAutomaticMultigridUnknowns unknowns on if its Newton matrix has no multiplier rows, from
+// kAutomaticSaddlePointMultigridUnknowns on if its only rows are the LinearConstraints' (weak
+// supports; not the problem's own rows, couplings and joints, where it was not measured to pay),
+// from kAutomaticTiedMultigridUnknowns on if it has tied coordinates of its own (AF-D) and no
+// multiplier rows, else direct: the crossovers of bench/large_shells.md.
 enum class LinearSolverMethod { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
 inline constexpr int kAutomaticMultigridUnknowns = 50000;
 inline constexpr int kAutomaticSaddlePointMultigridUnknowns = 100000;
+// AF-D's tied coordinates: the direct solver was faster at 6.3·10⁴ and 2·10⁵ unknowns (4.4
+// against 8.6 s, 20.9 against 23.8 s), but its memory (9.45 GB at 3·10⁵, growing as n^1.2–1.3)
+// reaches the 24 GB of the machines of bench/large_shells.md before 10⁶, where cg_multigrid fits.
+inline constexpr int kAutomaticTiedMultigridUnknowns = 400000;
 
 struct StaticSettings {
   double t_end = 1.0;
