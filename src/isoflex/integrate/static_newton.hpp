@@ -146,8 +146,9 @@ enum class LinearSolverMethod { automatic, direct, cg_gamg, cg_hypre, mumps, cg_
 inline constexpr int kAutomaticMultigridUnknowns = 50000;
 inline constexpr int kAutomaticSaddlePointMultigridUnknowns = 100000;
 // AF-D's tied coordinates: the direct solver was faster at 6.3·10⁴ and 2·10⁵ unknowns (4.4
-// against 8.6 s, 20.9 against 23.8 s), but its memory (9.45 GB at 3·10⁵, growing as n^1.2–1.3)
-// reaches the 24 GB of the machines of bench/large_shells.md before 10⁶, where cg_multigrid fits.
+// against 8.6 s, 20.9 against 23.8 s), but its memory (5.26 GB at 2·10⁵, 9.45 GB at 3·10⁵: n^1.4)
+// extrapolates past the 24 GB of the machines of bench/large_shells.md at about 6·10⁵ unknowns,
+// where cg_multigrid fits (16.85 GB at 10⁶).
 inline constexpr int kAutomaticTiedMultigridUnknowns = 400000;
 
 struct StaticSettings {
