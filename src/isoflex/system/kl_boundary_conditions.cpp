@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "isoflex/geometry/quadrature.hpp"
-#include "isoflex/solve/linear_solver.hpp"
+#include "isoflex/system/row_selection.hpp"
 
 namespace isoflex::system {
 
@@ -190,19 +190,15 @@ LinearConstraints KLBoundaryConditions::constraints() const {
     }
   }
   if (!link.empty()) {
-    // Independent rows, on the dense matrix of the columns they touch.
-    std::vector<int> cols;
-    for (const LinkRow& r : link)
-      for (const auto& e : r.entries) cols.push_back(e.first);
-    std::sort(cols.begin(), cols.end());
-    cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
-    MatX D =
-        MatX::Zero(static_cast<Eigen::Index>(link.size()), static_cast<Eigen::Index>(cols.size()));
+    // Independent rows, block by block (row_selection.hpp): rows that share no coordinate are
+    // independent of each other.
+    std::vector<Eigen::Triplet<double>> entries;
     for (std::size_t i = 0; i < link.size(); ++i)
       for (const auto& [dof, c] : link[i].entries)
-        D(static_cast<Eigen::Index>(i),
-          std::lower_bound(cols.begin(), cols.end(), dof) - cols.begin()) += c;
-    for (int i : solve::independent_rows_lu(D)) {
+        entries.emplace_back(static_cast<int>(i), dof, c);
+    Eigen::SparseMatrix<double> D(static_cast<Eigen::Index>(link.size()), n);
+    D.setFromTriplets(entries.begin(), entries.end());
+    for (int i : independent_rows_by_blocks(D, 1e-10, false).rows) {
       for (const auto& [dof, c] : link[static_cast<std::size_t>(i)].entries)
         trip.emplace_back(m, dof, c);
       out.row_labels.push_back(link[static_cast<std::size_t>(i)].label);

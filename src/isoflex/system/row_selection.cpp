@@ -26,7 +26,8 @@ struct Block {
 
 }  // namespace
 
-IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G, double threshold) {
+IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G, double threshold,
+                                           bool qr_rank) {
   IndependentRows out;
   const int m = static_cast<int>(G.rows());
   if (m == 0 || G.cols() == 0) return out;
@@ -62,7 +63,7 @@ IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
   for (const Block& b : blocks) {
     if (b.cols.empty()) {  // a zero row (Eigen's decompositions assert on empty matrices)
       lus.emplace_back();
-      qrs.emplace_back();
+      if (qr_rank) qrs.emplace_back();
       continue;
     }
     MatX D = MatX::Zero(static_cast<Eigen::Index>(b.rows.size()),
@@ -73,8 +74,9 @@ IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
         D(i, static_cast<Eigen::Index>(j)) = it.value();
       }
     lus.emplace_back(D);
-    qrs.emplace_back(MatX(D.transpose()));
     lu_max = std::max(lu_max, std::abs(lus.back().maxPivot()));
+    if (!qr_rank) continue;
+    qrs.emplace_back(MatX(D.transpose()));
     qr_max = std::max(qr_max, std::abs(qrs.back().maxPivot()));
   }
   for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -87,6 +89,7 @@ IndependentRows independent_rows_by_blocks(const Eigen::SparseMatrix<double>& G,
     const auto& p = lu.permutationP().indices();
     for (std::size_t i = 0; i < b.rows.size(); ++i)
       if (p(static_cast<Eigen::Index>(i)) < rank) out.rows.push_back(b.rows[i]);
+    if (!qr_rank) continue;
     const auto& qr = qrs[k];
     for (Eigen::Index i = 0; i < qr.nonzeroPivots(); ++i)
       if (std::abs(qr.matrixQR()(i, i)) > threshold * qr_max) ++out.rank_qr;
