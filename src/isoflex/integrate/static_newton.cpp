@@ -278,19 +278,77 @@ struct StaticNewtonSolver::Impl {
         }
       }
     };
-    std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(static_cast<std::size_t>(K.nonZeros() + 2 * Cf.nonZeros()));
-    for_each_entry([&](int, int fi, int fj, double) { trip.emplace_back(fi, fj, 0.0); });
+    // A's pattern column by column, counted first and then written (no triplets: at 10⁶
+    // unknowns they and setFromTriplets' transposed copy were 4 GB beside K, its pattern and A).
+    // Free column fj gathers K's column free[fj] and the slave columns whose expansion has fj;
+    // column nf + r holds row r of C_f (C_fᵀ's column r), or the implied row's 1.
+    std::vector<int> from_start(static_cast<std::size_t>(nf) + 1, 0);
+    for (const auto& sl : dofs.slaves)
+      for (const auto& [f, w] : expansion[static_cast<std::size_t>(sl.dof)])
+        ++from_start[static_cast<std::size_t>(f) + 1];
+    for (int f = 0; f < nf; ++f) from_start[f + 1] += from_start[f];
+    std::vector<int> from_slave(static_cast<std::size_t>(from_start[nf]));
+    {
+      std::vector<int> next(from_start.begin(), from_start.end() - 1);
+      for (const auto& sl : dofs.slaves)
+        for (const auto& [f, w] : expansion[static_cast<std::size_t>(sl.dof)])
+          from_slave[static_cast<std::size_t>(next[f]++)] = sl.dof;
+    }
+    const SpMat CfT = Cf.transpose();
+    std::vector<int> rows;
+    const auto column = [&](int c) {
+      rows.clear();
+      const auto add_k_column = [&](int j) {
+        for (int k = K.outerIndexPtr()[j]; k < K.outerIndexPtr()[j + 1]; ++k) {
+          const int i = K.innerIndexPtr()[k];
+          const int fi = dofs.full_to_free[static_cast<std::size_t>(i)];
+          if (fi >= 0)
+            rows.push_back(fi);
+          else
+            for (const auto& [ri, wi] : expansion[static_cast<std::size_t>(i)]) rows.push_back(ri);
+        }
+      };
+      if (c < nf) {
+        add_k_column(dofs.free[static_cast<std::size_t>(c)]);
+        for (int s = from_start[c]; s < from_start[c + 1]; ++s)
+          add_k_column(from_slave[static_cast<std::size_t>(s)]);
+        for (SpMat::InnerIterator it(Cf, c); it; ++it)
+          rows.push_back(nf + static_cast<int>(it.row()));
+      } else {
+        for (SpMat::InnerIterator it(CfT, c - nf); it; ++it)
+          rows.push_back(static_cast<int>(it.row()));
+        if (implied[static_cast<std::size_t>(c - nf)]) rows.push_back(c);
+      }
+      if (!std::is_sorted(rows.begin(), rows.end())) std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    };
+    std::vector<int> outer(static_cast<std::size_t>(nf + m) + 1, 0);
+    for (int c = 0; c < nf + m; ++c) {
+      column(c);
+      outer[static_cast<std::size_t>(c) + 1] =
+          outer[static_cast<std::size_t>(c)] + static_cast<int>(rows.size());
+    }
+    A = SpMat(nf + m, nf + m);
+    A.resizeNonZeros(outer.back());
+    std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
+    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
+    for (int c = 0; c < nf + m; ++c) {
+      column(c);
+      std::copy(rows.begin(), rows.end(), A.innerIndexPtr() + outer[static_cast<std::size_t>(c)]);
+    }
+    // The C blocks' values and the implied rows' 1 (the K part is summed in by assemble_matrix).
+    const auto set_value = [&](int r, int c, double v) {
+      const int* b = A.innerIndexPtr() + A.outerIndexPtr()[c];
+      const int* e = A.innerIndexPtr() + A.outerIndexPtr()[c + 1];
+      A.valuePtr()[std::lower_bound(b, e, r) - A.innerIndexPtr()] = v;
+    };
     for (int j = 0; j < Cf.outerSize(); ++j)
       for (SpMat::InnerIterator it(Cf, j); it; ++it) {
-        trip.emplace_back(nf + static_cast<int>(it.row()), j, it.value());
-        trip.emplace_back(j, nf + static_cast<int>(it.row()), it.value());
+        set_value(nf + static_cast<int>(it.row()), j, it.value());
+        set_value(j, nf + static_cast<int>(it.row()), it.value());
       }
     for (int r = 0; r < m; ++r)
-      if (implied[static_cast<std::size_t>(r)]) trip.emplace_back(nf + r, nf + r, 1.0);
-    A.resize(nf + m, nf + m);
-    A.setFromTriplets(trip.begin(), trip.end());
-    A.makeCompressed();
+      if (implied[static_cast<std::size_t>(r)]) set_value(nf + r, nf + r, 1.0);
     base_entries.clear();
     for (int j = 0; j < A.outerSize(); ++j)
       for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)

@@ -8,11 +8,10 @@
 
 namespace isoflex::system {
 
-int GlobalMatrix::add(const SpMat& local, std::vector<int> coords) {
+int GlobalMatrix::add(SpMat local, std::vector<int> coords) {
   assert(local.rows() == static_cast<int>(coords.size()) && local.cols() == local.rows());
-  SpMat l = local;
-  l.makeCompressed();
-  parts_.push_back({std::move(l), std::move(coords)});
+  local.makeCompressed();
+  parts_.push_back({std::move(local), std::move(coords)});
   return static_cast<int>(parts_.size()) - 1;
 }
 
@@ -22,42 +21,85 @@ int GlobalMatrix::add_dense(std::vector<int> coords) {
 }
 
 void GlobalMatrix::finalize(int n) {
-  // Visits every local entry of a contributor in its storage order: f(local index, row, col).
-  auto each = [](const Contributor& c, auto&& f) {
-    const int size = static_cast<int>(c.coords.size());
+  // The global rows of contributor c's local column j, appended to `rows`.
+  auto append_rows = [](const Contributor& c, int j, std::vector<int>& rows) {
     if (c.local.size() == 0) {
-      for (int j = 0, k = 0; j < size; ++j)
-        for (int i = 0; i < size; ++i, ++k) f(k, c.coords[i], c.coords[j]);
+      rows.insert(rows.end(), c.coords.begin(), c.coords.end());
       return;
     }
-    for (int j = 0; j < c.local.outerSize(); ++j)
-      for (int k = c.local.outerIndexPtr()[j]; k < c.local.outerIndexPtr()[j + 1]; ++k)
-        f(k, c.coords[c.local.innerIndexPtr()[k]], c.coords[j]);
+    for (int k = c.local.outerIndexPtr()[j]; k < c.local.outerIndexPtr()[j + 1]; ++k)
+      rows.push_back(c.coords[static_cast<std::size_t>(c.local.innerIndexPtr()[k])]);
   };
-  std::vector<Eigen::Triplet<double>> t;
+  // The (contributor, local column) pairs of every global column, grouped by column.
+  std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
   for (const Contributor& c : parts_)
-    each(c, [&](int, int r, int col) { t.emplace_back(r, col, 0.0); });
-  pattern_.resize(n, n);
-  pattern_.setFromTriplets(t.begin(), t.end());
-  pattern_.makeCompressed();
+    for (int g : c.coords) ++start[static_cast<std::size_t>(g) + 1];
+  for (int j = 0; j < n; ++j) start[j + 1] += start[j];
+  std::vector<std::pair<int, int>> sources(static_cast<std::size_t>(start[n]));
+  {
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < parts_.size(); ++p)
+      for (std::size_t j = 0; j < parts_[p].coords.size(); ++j)
+        sources[static_cast<std::size_t>(next[parts_[p].coords[j]]++)] = {static_cast<int>(p),
+                                                                          static_cast<int>(j)};
+  }
+  // A column's rows: the union of its sources' rows, sorted. Counted first, then written, so
+  // that the pattern is allocated once at its size.
+  std::vector<int> rows;
+  auto column = [&](int g) {
+    rows.clear();
+    for (int s = start[g]; s < start[g + 1]; ++s) {
+      const auto [p, j] = sources[static_cast<std::size_t>(s)];
+      append_rows(parts_[static_cast<std::size_t>(p)], j, rows);
+    }
+    if (!std::is_sorted(rows.begin(), rows.end())) std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  };
+  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0);
+  for (int g = 0; g < n; ++g) {
+    column(g);
+    outer[g + 1] = outer[g] + static_cast<int>(rows.size());
+  }
+  pattern_ = SpMat(n, n);
+  pattern_.resizeNonZeros(outer[n]);
+  std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
+  for (int g = 0; g < n; ++g) {
+    column(g);
+    std::copy(rows.begin(), rows.end(), pattern_.innerIndexPtr() + outer[g]);
+  }
+  std::fill_n(pattern_.valuePtr(), pattern_.nonZeros(), 0.0);
+
   maps_.assign(parts_.size(), {});
   entries_.clear();
   for (std::size_t p = 0; p < parts_.size(); ++p) {
     const Contributor& c = parts_[p];
+    const int size = static_cast<int>(c.coords.size());
+    const long long count = c.local.size() == 0 ? static_cast<long long>(size) * size
+                                                : static_cast<long long>(c.local.nonZeros());
+    entries_.push_back(static_cast<int>(count));
+    // The whole pattern in its own storage order (one patch alone): no map.
+    if (count > 0 && count == pattern_.nonZeros() && size == n && c.local.size() != 0) {
+      bool same = true;
+      for (int i = 0; same && i < n; ++i) same = c.coords[static_cast<std::size_t>(i)] == i;
+      same = same && std::equal(c.local.innerIndexPtr(), c.local.innerIndexPtr() + count,
+                                pattern_.innerIndexPtr());
+      if (same) continue;
+    }
     std::vector<int>& m = maps_[p];
-    m.resize(c.local.size() == 0 ? c.coords.size() * c.coords.size()
-                                 : static_cast<std::size_t>(c.local.nonZeros()));
-    each(c, [&](int k, int r, int col) {
-      const int* b = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col];
-      const int* e = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[col + 1];
-      const int* at = std::lower_bound(b, e, r);
-      assert(at != e && *at == r);
-      m[k] = static_cast<int>(at - pattern_.innerIndexPtr());
-    });
-    entries_.push_back(static_cast<int>(m.size()));
-    bool identity = static_cast<Eigen::Index>(m.size()) == pattern_.nonZeros();
-    for (std::size_t k = 0; identity && k < m.size(); ++k) identity = m[k] == static_cast<int>(k);
-    if (identity && !m.empty()) std::vector<int>().swap(m);
+    m.resize(static_cast<std::size_t>(count));
+    std::size_t k = 0;
+    for (int j = 0; j < size; ++j) {
+      rows.clear();
+      append_rows(c, j, rows);
+      const int g = c.coords[static_cast<std::size_t>(j)];
+      const int* b = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[g];
+      const int* e = pattern_.innerIndexPtr() + pattern_.outerIndexPtr()[g + 1];
+      for (int r : rows) {
+        const int* at = std::lower_bound(b, e, r);
+        assert(at != e && *at == r);
+        m[k++] = static_cast<int>(at - pattern_.innerIndexPtr());
+      }
+    }
   }
   parts_.clear();  // the maps are all that is needed from here on
 }

@@ -15,12 +15,14 @@ class GlobalMatrix {
  public:
   using SpMat = Eigen::SparseMatrix<double>;
 
-  // Registers a contributor with its local pattern (compressed) over the global coordinates
-  // `coords` (local row/column i is global coords[i]); returns its id. Before finalize().
-  int add(const SpMat& local, std::vector<int> coords);
+  // Registers a contributor with its local pattern over the global coordinates `coords` (local
+  // row/column i is global coords[i]); returns its id. Before finalize(). Taken by value: a
+  // patch's pattern (1.8 GB at 10⁶ unknowns) is moved in, not copied.
+  int add(SpMat local, std::vector<int> coords);
   // A dense contributor: every entry of the rows × columns block over coords.
   int add_dense(std::vector<int> coords);
-  // Builds the n × n pattern and the maps.
+  // Builds the n × n pattern and the maps, column by column from the contributors' columns (no
+  // triplets: at 10⁶ unknowns they and Eigen's transposed copy were 4 GB beside the pattern).
   void finalize(int n);
 
   // The pattern with zero values.
