@@ -187,27 +187,34 @@ KLShellPatch::KLShellPatch(geometry::NurbsSurface reference, KLShellSection sect
     }
   }
 
-  // Constant consistent mass (IGA-thesis (4.24)): M_AB = 2ε ρ ∫ R_A R_B ν₀ dϑ ⊗ I₃, 2ε = t.
-  m.mass = m.pattern;
-  const double rho_t = section.density * section.thickness;
-  double* val = m.mass.valuePtr();
-  for (int e = 0; e < ne; ++e) {
-    geometry::element_basis(m.ref, m.elems[e], m.rule_u, m.rule_v, eb);
-    const int* c = m.conn.data() + static_cast<std::size_t>(e) * m.n_fun;
-    for (int g = 0; g < m.n_qp; ++g) {
-      const kl::BasisView R = Impl::view(eb, g);
-      const double dA = m.points[static_cast<std::size_t>(e) * m.n_qp + g].dA * rho_t;
-      for (int l = 0; l < m.n_fun; ++l) {
-        const int* bp = m.block_pos.data() + (static_cast<std::size_t>(e) * m.n_fun + l) * m.n_fun;
-        const int stride = m.col_nnz[c[l]];
-        for (int k = 0; k < m.n_fun; ++k) {
-          const double mkl = dA * (R(0, k) * R(0, l));  // symmetric in k, l bit for bit
-          for (int i = 0; i < 3; ++i) val[bp[k] + i * stride + i] += mkl;
+  impl_ = std::move(im);
+}
+
+// Constant consistent mass (IGA-thesis (4.24)): M_AB = 2ε ρ ∫ R_A R_B ν₀ dϑ ⊗ I₃, 2ε = t.
+const SpMat& KLShellPatch::Impl::consistent_mass() const {
+  std::call_once(mass_once, [&] {
+    const double rho_t = sec.density * sec.thickness;
+    mass = pattern;
+    double* val = mass.valuePtr();
+    geometry::ElementBasis eb;
+    for (int e = 0; e < static_cast<int>(elems.size()); ++e) {
+      geometry::element_basis(ref, elems[e], rule_u, rule_v, eb);
+      const int* c = conn.data() + static_cast<std::size_t>(e) * n_fun;
+      for (int g = 0; g < n_qp; ++g) {
+        const kl::BasisView R = view(eb, g);
+        const double dA = points[static_cast<std::size_t>(e) * n_qp + g].dA * rho_t;
+        for (int l = 0; l < n_fun; ++l) {
+          const int* bp = block_pos.data() + (static_cast<std::size_t>(e) * n_fun + l) * n_fun;
+          const int stride = col_nnz[c[l]];
+          for (int k = 0; k < n_fun; ++k) {
+            const double mkl = dA * (R(0, k) * R(0, l));  // symmetric in k, l bit for bit
+            for (int i = 0; i < 3; ++i) val[bp[k] + i * stride + i] += mkl;
+          }
         }
       }
     }
-  }
-  impl_ = std::move(im);
+  });
+  return mass;
 }
 
 const geometry::NurbsSurface& KLShellPatch::reference() const {
@@ -251,7 +258,7 @@ const SpMat& KLShellPatch::pattern() const {
   return impl_->pattern;
 }
 const SpMat& KLShellPatch::mass() const {
-  return impl_->mass;
+  return impl_->consistent_mass();
 }
 
 double KLShellPatch::kinetic_energy(const VecX& velocity) const {

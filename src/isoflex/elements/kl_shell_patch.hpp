@@ -144,7 +144,8 @@ class KLShellPatch {
   // The fixed sparsity pattern of K (3ncp × 3ncp, every pair of control points sharing an
   // element, all 3 × 3 blocks), values zero, compressed.
   const SpMat& pattern() const;
-  // Consistent mass (4.24), ρ t ∫ R_A R_B dA ⊗ I₃, computed once (constant).
+  // Consistent mass (4.24), ρ t ∫ R_A R_B dA ⊗ I₃, computed on the first call (constant; a static
+  // analysis never makes it).
   const SpMat& mass() const;
   // Kinetic energy ½ ẋᵀ M ẋ of control-point velocities ẋ (3.23) with the mass above.
   double kinetic_energy(const VecX& velocity) const;

@@ -30,7 +30,12 @@ struct KLShellPatch::Impl {
   // B = conn(e, l), is valuePtr()[block_pos[(e·n_fun + l)·n_fun + k] + c·col_nnz[B] + i].
   std::vector<int> block_pos;
   std::vector<int> col_nnz;  // non-zeros of each of the three columns of control point B
-  SpMat pattern, mass;
+  SpMat pattern;
+  // The constant consistent mass, computed on first use (a static analysis never asks for it:
+  // pattern-sized, 1.8 GB at 10⁶ unknowns). Shared by the copies of a patch, hence once_flag.
+  mutable std::once_flag mass_once;
+  mutable SpMat mass;
+  const SpMat& consistent_mass() const;
   // The linear tangent (KLKinematics::linear) is constant: its values in the pattern, stored by
   // the first linear evaluation with a tangent and copied by the later ones (kl-shell.md §3).
   // Not part of the patch's value: the copies of a patch share it, hence the mutex.
