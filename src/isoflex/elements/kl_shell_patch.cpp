@@ -238,6 +238,13 @@ std::size_t KLShellPatch::reference_bytes_per_point() const {
 VecX KLShellPatch::reference_positions() const {
   return impl_->reference_positions();
 }
+void KLShellPatch::set_keep_linear_tangent(bool keep) {
+  keep_linear_tangent_ = keep;
+  if (keep) return;
+  const std::lock_guard<std::mutex> lock(impl_->linear_mutex);
+  std::vector<double>().swap(impl_->linear_values);
+}
+
 void KLShellPatch::set_partition(int part, int parts) {
   if (!(parts >= 1 && part >= 0 && part < parts))
     throw std::invalid_argument("KLShellPatch::set_partition: part " + std::to_string(part) +

@@ -125,8 +125,10 @@ class KLShellPatch {
   // Whether an evaluation with linear kinematics and a tangent keeps the tangent's values (it is
   // constant) for the later ones to copy; true by default. A static analysis evaluates it once
   // per load step and does without the copy: nnz doubles, 1.2 GB at 10⁶ unknowns
-  // (bench/large_shells.md). The values are the same either way.
-  void set_keep_linear_tangent(bool keep) { keep_linear_tangent_ = keep; }
+  // (bench/large_shells.md). The values are the same either way. false also drops values kept
+  // before (a coupling's scale, System::add_kl_couplings, evaluates every patch's tangent while
+  // the model is compiled: 1.2 GB of the two-patch roof at 10⁶ unknowns, kept to the end).
+  void set_keep_linear_tangent(bool keep);
   // The part of the patch whose elements internal_force and internal_force_into sum, for a run on
   // `parts` MPI ranks (docs/theory/solvers.md §6): the elements of the rows (knot spans along v)
   // rows·part/parts … rows·(part + 1)/parts − 1, contiguous blocks of element rows; r and K are
