@@ -14,6 +14,7 @@
 
 #include "isoflex/integrate/arc_length.hpp"
 #include "isoflex/integrate/newton_loop.hpp"
+#include "isoflex/math/sparse_pattern.hpp"
 #include "isoflex/solve/krylov_solver.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 #include "isoflex/solve/saddle_point.hpp"
@@ -295,9 +296,7 @@ struct StaticNewtonSolver::Impl {
           from_slave[static_cast<std::size_t>(next[f]++)] = sl.dof;
     }
     const SpMat CfT = Cf.transpose();
-    std::vector<int> rows;
-    const auto column = [&](int c) {
-      rows.clear();
+    const auto column = [&](int c, std::vector<int>& rows) {
       const auto add_k_column = [&](int j) {
         for (int k = K.outerIndexPtr()[j]; k < K.outerIndexPtr()[j + 1]; ++k) {
           const int i = K.innerIndexPtr()[k];
@@ -319,23 +318,8 @@ struct StaticNewtonSolver::Impl {
           rows.push_back(static_cast<int>(it.row()));
         if (implied[static_cast<std::size_t>(c - nf)]) rows.push_back(c);
       }
-      if (!std::is_sorted(rows.begin(), rows.end())) std::sort(rows.begin(), rows.end());
-      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     };
-    std::vector<int> outer(static_cast<std::size_t>(nf + m) + 1, 0);
-    for (int c = 0; c < nf + m; ++c) {
-      column(c);
-      outer[static_cast<std::size_t>(c) + 1] =
-          outer[static_cast<std::size_t>(c)] + static_cast<int>(rows.size());
-    }
-    A = SpMat(nf + m, nf + m);
-    A.resizeNonZeros(outer.back());
-    std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
-    for (int c = 0; c < nf + m; ++c) {
-      column(c);
-      std::copy(rows.begin(), rows.end(), A.innerIndexPtr() + outer[static_cast<std::size_t>(c)]);
-    }
+    pattern_by_columns(nf + m, nf + m, column, A);
     // The C blocks' values and the implied rows' 1 (the K part is summed in by assemble_matrix).
     const auto set_value = [&](int r, int c, double v) {
       const int* b = A.innerIndexPtr() + A.outerIndexPtr()[c];

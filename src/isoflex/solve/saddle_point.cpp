@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "isoflex/math/sparse_pattern.hpp"
 #include "isoflex/solve/linear_solver.hpp"
 
 namespace isoflex::solve {
@@ -116,8 +117,8 @@ struct SaddlePointSolver::Impl {
           static_cast<int>(std::unique(begin, end) - extra_rows.begin());
     }
     // Â's pattern: per column the union of A's rows (M's column j below p, sorted) and the
-    // extra rows; counted first, then written into Â's arrays in place.
-    const auto merge = [&](int j, auto&& row) {
+    // extra rows.
+    const auto merge = [&](int j, std::vector<int>& column) {
       int k = outer[j];
       const int k_end = outer[j + 1];
       int e = extra_start[static_cast<std::size_t>(j)];
@@ -127,26 +128,12 @@ struct SaddlePointSolver::Impl {
         const int b = e < e_end ? extra_rows[static_cast<std::size_t>(e)] : p;
         if (a == p && b == p) break;
         const int i = std::min(a, b);
-        row(i);
+        column.push_back(i);
         if (a == i) ++k;
         if (b == i) ++e;
       }
     };
-    Ahat.resize(p, p);
-    Ahat.makeCompressed();
-    int* a_outer = Ahat.outerIndexPtr();
-    a_outer[0] = 0;
-    for (int j = 0; j < p; ++j) {
-      int count = 0;
-      merge(j, [&](int) { ++count; });
-      a_outer[j + 1] = a_outer[j] + count;
-    }
-    Ahat.resizeNonZeros(a_outer[p]);
-    int* a_inner = Ahat.innerIndexPtr();
-    for (int j = 0; j < p; ++j) {
-      int t = Ahat.outerIndexPtr()[j];
-      merge(j, [&](int i) { a_inner[t++] = i; });
-    }
+    pattern_by_columns(p, p, merge, Ahat);
     const auto position = [&](int i, int j) {
       const int* begin = Ahat.innerIndexPtr() + Ahat.outerIndexPtr()[j];
       const int* end = Ahat.innerIndexPtr() + Ahat.outerIndexPtr()[j + 1];

@@ -11,7 +11,9 @@ namespace isoflex::system {
 int GlobalMatrix::add(SpMat local, std::vector<int> coords) {
   assert(local.rows() == static_cast<int>(coords.size()) && local.cols() == local.rows());
   local.makeCompressed();
-  parts_.push_back({std::move(local), std::move(coords)});
+  parts_.emplace_back();
+  parts_.back().local.swap(local);
+  parts_.back().coords = std::move(coords);
   return static_cast<int>(parts_.size()) - 1;
 }
 
@@ -43,33 +45,19 @@ void GlobalMatrix::finalize(int n) {
         sources[static_cast<std::size_t>(next[parts_[p].coords[j]]++)] = {static_cast<int>(p),
                                                                           static_cast<int>(j)};
   }
-  // A column's rows: the union of its sources' rows, sorted. Counted first, then written, so
-  // that the pattern is allocated once at its size.
-  std::vector<int> rows;
-  auto column = [&](int g) {
-    rows.clear();
-    for (int s = start[g]; s < start[g + 1]; ++s) {
-      const auto [p, j] = sources[static_cast<std::size_t>(s)];
-      append_rows(parts_[static_cast<std::size_t>(p)], j, rows);
-    }
-    if (!std::is_sorted(rows.begin(), rows.end())) std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  };
-  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0);
-  for (int g = 0; g < n; ++g) {
-    column(g);
-    outer[g + 1] = outer[g] + static_cast<int>(rows.size());
-  }
-  pattern_ = SpMat(n, n);
-  pattern_.resizeNonZeros(outer[n]);
-  std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
-  for (int g = 0; g < n; ++g) {
-    column(g);
-    std::copy(rows.begin(), rows.end(), pattern_.innerIndexPtr() + outer[g]);
-  }
-  std::fill_n(pattern_.valuePtr(), pattern_.nonZeros(), 0.0);
+  // A column's rows: the union of its sources' rows.
+  pattern_by_columns(
+      n, n,
+      [&](int g, std::vector<int>& rows) {
+        for (int s = start[g]; s < start[g + 1]; ++s) {
+          const auto [p, j] = sources[static_cast<std::size_t>(s)];
+          append_rows(parts_[static_cast<std::size_t>(p)], j, rows);
+        }
+      },
+      pattern_);
 
   maps_.assign(parts_.size(), {});
+  std::vector<int> rows;
   entries_.clear();
   for (std::size_t p = 0; p < parts_.size(); ++p) {
     const Contributor& c = parts_[p];

@@ -5,6 +5,7 @@
 // contributor, with no triplets and no sorting per Newton iteration, and the sum over the
 // contributors of an entry runs in the order they were added.
 #include <Eigen/SparseCore>
+#include <deque>
 #include <vector>
 
 #include "isoflex/math/types.hpp"
@@ -16,8 +17,9 @@ class GlobalMatrix {
   using SpMat = Eigen::SparseMatrix<double>;
 
   // Registers a contributor with its local pattern over the global coordinates `coords` (local
-  // row/column i is global coords[i]); returns its id. Before finalize(). Taken by value: a
-  // patch's pattern (1.8 GB at 10⁶ unknowns) is moved in, not copied.
+  // row/column i is global coords[i]); returns its id. Before finalize(). `local` is swapped
+  // in, not copied (Eigen 3.4's SparseMatrix has no move constructor; a patch's pattern is
+  // 1.8 GB at 10⁶ unknowns).
   int add(SpMat local, std::vector<int> coords);
   // A dense contributor: every entry of the rows × columns block over coords.
   int add_dense(std::vector<int> coords);
@@ -42,7 +44,8 @@ class GlobalMatrix {
     SpMat local;  // empty for a dense one
     std::vector<int> coords;
   };
-  std::vector<Contributor> parts_;
+  // A deque: adding a part never relocates the others, which would copy their patterns.
+  std::deque<Contributor> parts_;
   std::vector<std::vector<int>> maps_;  // empty for a whole() contributor
   std::vector<int> entries_;
   SpMat pattern_;
