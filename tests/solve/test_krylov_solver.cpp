@@ -146,16 +146,30 @@ TEST(KrylovSolver, StopsAtTheToleranceItIsGiven) {
   EXPECT_LE((b - net.K * absolute).norm(), atol);
 }
 
+// A two-level interpolation for the network (cg_multigrid): coarse point c is fine points 2c and
+// 2c + 1, component by component.
+static SpMat pair_interpolation(const Network& net) {
+  const int points = static_cast<int>(net.points.size());
+  SpMat P(3 * points, 3 * ((points + 1) / 2));
+  for (int p = 0; p < points; ++p)
+    for (int r = 0; r < 3; ++r) P.insert(3 * p + r, 3 * (p / 2) + r) = 1.0;
+  P.makeCompressed();
+  return P;
+}
+
 // Newton's matrices change their values in the same arrays: the solver must see the new ones
-// (the multigrid hierarchy recomputed on them), and a new pattern when it is told of one.
+// (the multigrid hierarchy recomputed on them; cg_multigrid's products by its own copy of the
+// upper triangle, refreshed), and a new pattern when it is told of one.
 TEST(KrylovSolver, SeesNewValuesInTheSameArraysAndANewPattern) {
   ISOFLEX_REQUIRE_PETSC();
   Network net = spring_network(8, 5, 3, 50.0);
   const VecX b = random_load(static_cast<int>(net.K.rows()));
-  for (KrylovMethod method : {KrylovMethod::cg_gamg, KrylovMethod::mumps}) {
+  for (KrylovMethod method :
+       {KrylovMethod::cg_gamg, KrylovMethod::mumps, KrylovMethod::cg_multigrid}) {
     SpMat K = net.K;
     solve::KrylovSolver solver(method);
     solver.set_near_null_space(solve::rigid_body_modes(net.q, net.points));
+    if (method == KrylovMethod::cg_multigrid) solver.set_interpolations({pair_interpolation(net)});
     const VecX x1 = solver.solve(K, true, b, 1e-12, 0.0);
     // Twice as stiff, and more so along the diagonal: a different matrix in the same arrays.
     for (int k = 0; k < K.nonZeros(); ++k) K.valuePtr()[k] *= 2.0;
@@ -167,6 +181,8 @@ TEST(KrylovSolver, SeesNewValuesInTheSameArraysAndANewPattern) {
     EXPECT_GT((x2 - x1).norm(), 0.1 * x1.norm());
     const Network other = spring_network(6, 5, 3, 20.0);
     const VecX b2 = random_load(static_cast<int>(other.K.rows()));
+    if (method == KrylovMethod::cg_multigrid)
+      solver.set_interpolations({pair_interpolation(other)});
     const VecX x3 = solver.solve(other.K, true, b2, 1e-12, 0.0);
     const VecX expected3 = cholesky.solve(other.K, b2);
     EXPECT_LT((x3 - expected3).norm(), 1e-8 * expected3.norm())

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "isoflex/solve/krylov_backend.hpp"
+#include "isoflex/solve/petsc/upper_triangle.hpp"
 
 static_assert(sizeof(PetscInt) == sizeof(int), "isoflex passes 32-bit index arrays to PETSc");
 static_assert(sizeof(PetscScalar) == sizeof(double), "isoflex needs PETSc's real double build");
@@ -117,6 +118,7 @@ class PetscKrylov final : public KrylovBackend {
   ~PetscKrylov() override {
     destroy_saddle_point();
     if (ksp_) KSPDestroy(&ksp_);
+    drop_levels();
     if (A_) MatDestroy(&A_);
     if (null_space_) MatNullSpaceDestroy(&null_space_);
     for (Mat& P : interpolations_) MatDestroy(&P);
@@ -150,6 +152,7 @@ class PetscKrylov final : public KrylovBackend {
   }
 
   void set_interpolations(int count, const CsrView* P) override {
+    drop_levels();
     for (Mat& M : interpolations_) check(MatDestroy(&M), "MatDestroy");
     interpolations_.assign(static_cast<std::size_t>(count), nullptr);
     for (int l = 0; l < count && distributed_; ++l) {
@@ -181,7 +184,10 @@ class PetscKrylov final : public KrylovBackend {
     else
       values_changed();
     if (!ksp_) make_ksp();
-    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    if (own_galerkin_)
+      set_level_operators(A);
+    else
+      check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
     // MUMPS is a factorization: its one "iteration" is the triangular solves.
     return run(ksp_, A.n, b, x, rtol, atol, max_iterations, method_ != KrylovMethod::mumps,
                method_name());
@@ -396,6 +402,44 @@ class PetscKrylov final : public KrylovBackend {
     n_ = A.n;
     // A new pattern is a new hierarchy and a new symbolic factorization.
     if (ksp_) check(KSPDestroy(&ksp_), "KSPDestroy");
+    drop_levels();
+    own_galerkin_ = method_ == KrylovMethod::cg_multigrid && !interpolations_.empty() &&
+                    UpperTriangle::possible(A);
+  }
+
+  // The products of CG and of the multigrid's finest level by A's upper triangle (SBAIJ, half
+  // the bytes of A's AIJ per product), the finest level's block smoother and the Galerkin
+  // products Pᵀ A P on A itself. PETSc forms the Galerkin products only from one matrix per
+  // level, so they are made here, level by level; MAT_REUSE_MATRIX keeps their patterns across
+  // Newton iterations.
+  void set_level_operators(const CsrView& A) {
+    if (!upper_.mat())
+      upper_.make(A);
+    else
+      upper_.update(A);
+    const MatReuse reuse = coarse_.empty() ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX;
+    coarse_.resize(interpolations_.size(), nullptr);
+    Mat fine = A_;
+    for (std::size_t l = 0; l < interpolations_.size(); ++l) {
+      check(MatPtAP(fine, interpolations_[l], reuse, PETSC_DEFAULT, &coarse_[l]), "MatPtAP");
+      fine = coarse_[l];
+    }
+    check(KSPSetOperators(ksp_, upper_.mat(), A_), "KSPSetOperators");
+    PC pc = nullptr;
+    check(KSPGetPC(ksp_, &pc), "KSPGetPC");
+    const int count = static_cast<int>(coarse_.size());
+    for (int l = 1; l <= count; ++l) {
+      KSP smoother = nullptr;
+      check(PCMGGetSmoother(pc, count - l, &smoother), "PCMGGetSmoother");
+      const Mat M = coarse_[static_cast<std::size_t>(l - 1)];
+      check(KSPSetOperators(smoother, M, M), "KSPSetOperators");
+    }
+  }
+
+  void drop_levels() {
+    upper_.clear();
+    for (Mat& M : coarse_) MatDestroy(&M);
+    coarse_.clear();
   }
 
   void make_ksp() {
@@ -404,14 +448,15 @@ class PetscKrylov final : public KrylovBackend {
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
     check(KSPSetType(ksp_, method_ == KrylovMethod::mumps ? KSPPREONLY : KSPCG), "KSPSetType");
-    set_preconditioner(pc);
+    set_preconditioner(pc, own_galerkin_);
     if (method_ != KrylovMethod::mumps)
       check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
     check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
   }
 
-  // The method's preconditioner of A (of Â in the saddle point).
-  void set_preconditioner(PC pc) {
+  // The method's preconditioner of A (of Â in the saddle point). own_galerkin: the multigrid's
+  // levels get their operators from set_level_operators.
+  void set_preconditioner(PC pc, bool own_galerkin = false) {
     switch (method_) {
       case KrylovMethod::cg_gamg:
         check(PCSetType(pc, PCGAMG), "PCSetType");
@@ -424,7 +469,7 @@ class PetscKrylov final : public KrylovBackend {
         check(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
         break;
       case KrylovMethod::cg_multigrid:
-        setup_multigrid(pc);
+        setup_multigrid(pc, own_galerkin);
         break;
       case KrylovMethod::mumps:
         check(PCSetType(pc, PCCHOLESKY), "PCSetType");
@@ -533,7 +578,7 @@ class PetscKrylov final : public KrylovBackend {
   // strips of control-point rows. With point smoothers (SOR) the CG iterations doubled with every
   // level on a thin shell; with these blocks they barely grow (docs/theory/solvers.md §4 has the
   // counts). PETSC_OPTIONS overrides any of it.
-  void setup_multigrid(PC pc) {
+  void setup_multigrid(PC pc, bool own_galerkin) {
     if (interpolations_.empty()) {
       // A model no larger than the coarsest level: that level's factorization is the solve.
       set_cholesky(pc);
@@ -546,7 +591,11 @@ class PetscKrylov final : public KrylovBackend {
       check(
           PCMGSetInterpolation(pc, count + 1 - l, interpolations_[static_cast<std::size_t>(l - 1)]),
           "PCMGSetInterpolation");
-    check(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH), "PCMGSetGalerkin");
+    check(PCMGSetGalerkin(pc, own_galerkin ? PC_MG_GALERKIN_NONE : PC_MG_GALERKIN_BOTH),
+          "PCMGSetGalerkin");
+    // The finest level's products by the KSP's Amat (the upper triangle), its smoother's blocks
+    // from the Pmat (A).
+    if (own_galerkin) check(PCSetUseAmat(pc, PETSC_TRUE), "PCSetUseAmat");
     for (int l = 1; l <= count; ++l) {
       PetscInt n = 0;
       check(MatGetSize(interpolations_[static_cast<std::size_t>(l - 1)], &n, nullptr),
@@ -601,6 +650,10 @@ class PetscKrylov final : public KrylovBackend {
   int modes_count_ = 0;
   std::vector<Mat> interpolations_;
   Mat A_ = nullptr;
+  // set_level_operators: A's upper triangle and the coarse levels' Pᵀ A P, finest first.
+  bool own_galerkin_ = false;
+  UpperTriangle upper_;
+  std::vector<Mat> coarse_;
   KSP ksp_ = nullptr;
   MatNullSpace null_space_ = nullptr;
   const int* row_start_ = nullptr;
