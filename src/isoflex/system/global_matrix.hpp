@@ -16,6 +16,17 @@ class GlobalMatrix {
  public:
   using SpMat = Eigen::SparseMatrix<double>;
 
+  GlobalMatrix() = default;
+  GlobalMatrix(const GlobalMatrix&) = default;
+  GlobalMatrix& operator=(const GlobalMatrix&) = default;
+  // Moves swap the pattern: Eigen 3.4's SparseMatrix has no move constructor, and a copy of the
+  // pattern would write its whole value array (a System is moved once, when it is compiled).
+  GlobalMatrix(GlobalMatrix&& other) noexcept { swap(other); }
+  GlobalMatrix& operator=(GlobalMatrix&& other) noexcept {
+    swap(other);
+    return *this;
+  }
+
   // Registers a contributor with its local pattern over the global coordinates `coords` (local
   // row/column i is global coords[i]); returns its id. Before finalize(). `local` is swapped
   // in, not copied (Eigen 3.4's SparseMatrix has no move constructor; a patch's pattern is
@@ -27,8 +38,8 @@ class GlobalMatrix {
   // triplets: at 10⁶ unknowns they and Eigen's transposed copy were 4 GB beside the pattern).
   void finalize(int n);
 
-  // The pattern with zero values.
-  const SpMat& zero() const { return pattern_; }
+  // The pattern: its structure only (its values are not set; reset() gives a matrix in it).
+  const SpMat& pattern() const { return pattern_; }
   // Sets K to the pattern with zero values, keeping K's storage when it has the pattern already.
   void reset(SpMat& K) const;
   int local_entries(int id) const { return entries_[id]; }
@@ -44,6 +55,13 @@ class GlobalMatrix {
     SpMat local;  // empty for a dense one
     std::vector<int> coords;
   };
+  void swap(GlobalMatrix& other) noexcept {
+    parts_.swap(other.parts_);
+    maps_.swap(other.maps_);
+    entries_.swap(other.entries_);
+    pattern_.swap(other.pattern_);
+  }
+
   // A deque: adding a part never relocates the others, which would copy their patterns.
   std::deque<Contributor> parts_;
   std::vector<std::vector<int>> maps_;  // empty for a whole() contributor
