@@ -122,6 +122,29 @@ TEST_P(NodeKindTest, UpdateStaysOnTheManifoldWithExactDerivative) {
   }
 }
 
+// root_increment is q_{n+1} − qₙ of root_update, without its cancellation: far from the origin
+// (|φ| = 10⁶) the difference of the coordinates loses the position's increment's last ten digits,
+// the increment keeps them.
+TEST_P(NodeKindTest, IncrementIsTheUpdateLessTheStartWithoutCancellation) {
+  const NodeType& t = type();
+  std::mt19937 g(8);
+  for (double scale : {1.0, 1e-3, 1e-7}) {
+    const VecX qn = on_manifold(GetParam(), g);
+    const VecX u = random_vector(g, t.free_velocities(), scale);
+    Mat3 step;
+    const VecX dq = t.root_increment(qn, u);
+    EXPECT_LT((dq - (t.root_update(qn, u, step) - qn)).lpNorm<Eigen::Infinity>(), 4e-16)
+        << "scale " << scale;
+    VecX far = qn;
+    far.head<3>() += Vec3(1e6, -1e6, 1e6);
+    const VecX dfar = t.root_increment(far, u);
+    EXPECT_TRUE(dfar.head<3>() == u.head<3>());
+    EXPECT_TRUE(dfar.tail(dfar.size() - 3) == dq.tail(dq.size() - 3));
+    EXPECT_GT((t.root_update(far, u, step) - far - dfar).head<3>().lpNorm<Eigen::Infinity>(),
+              1e-13);
+  }
+}
+
 TEST_P(NodeKindTest, RotationOverTheStepMovesTheFrame) {
   const NodeType& t = type();
   std::mt19937 g(5);

@@ -25,6 +25,27 @@ TEST(Rodrigues, RotatesAboutItsAxisByItsNorm) {
             1e-17);
 }
 
+// (exp(θ̂) − I) v to the precision of its own size: against the series of exp(θ̂) v − v in long
+// double (θ ⊥ v, |θ| ≤ 10⁻², 15 terms), where rodrigues(θ) v − v keeps only ε|v| absolute.
+TEST(Rodrigues, IncrementIsAccurateWhereTheRotatedVectorLessItIsNot) {
+  std::mt19937 g(3);
+  for (double scale : {1e-2, 1e-5, 1e-9}) {
+    const Vec3 v = random_vector(g, 3);
+    const Vec3 th = Vec3(random_vector(g, 3)).cross(v).normalized() * scale;
+    using LVec = Eigen::Matrix<long double, 3, 1>;
+    const LVec tl = th.cast<long double>(), vl = v.cast<long double>();
+    LVec term = vl, sum = LVec::Zero();
+    for (int k = 1; k <= 15; ++k) {
+      term = tl.cross(term) / static_cast<long double>(k);
+      sum += term;
+    }
+    const Vec3 exact = sum.cast<double>();
+    const Vec3 dv = rotation_increment(th, v);
+    EXPECT_LT((dv - exact).norm(), 4e-16 * exact.norm()) << "scale " << scale;
+    EXPECT_LT((dv - (rodrigues(th) * v - v)).norm(), 4e-16 * v.norm());
+  }
+}
+
 // δ(exp(θ̂) v) = (T(θ) δθ) × exp(θ̂) v, checked against central differences, also for small |θ|
 // where the series branches are taken.
 TEST(Rodrigues, TangentMatchesFiniteDifferences) {

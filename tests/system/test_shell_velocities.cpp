@@ -65,13 +65,7 @@ void expect_rigid_start_and_conservation(const std::string& yaml, double h) {
   for (int i = 0; i < 40; ++i) integ.step(s);
   const integrate::Snapshot last = integ.snapshot(s, {}, {});
   EXPECT_NEAR(last.total_energy, first.total_energy, 1e-12 * T);
-  // Round-off at the residual's floor sets the last digits, not where Newton stops: Newton stops
-  // by the residual test (10⁻¹⁶ of the momentum terms) after 2 iterations a step, and the drift
-  // does not move with increment_tolerance (10⁻⁹ … 10⁻¹³). With residual_tolerance 10⁻¹⁵ / 3·10⁻¹⁷
-  // / 10⁻¹⁷ it is 2.4 / 0.7 / 1.6·10⁻¹² with the mixed tangent and 1.0 / 1.9 / 1.4·10⁻¹² with the
-  // exact one (director plate, `isoflex run` of this model, 2026-11-29): both tangents reach the
-  // old bound 10⁻¹³ m = 2·10⁻¹².
-  EXPECT_LT((last.linear_momentum - first.linear_momentum).norm(), 2e-13 * kMass);
+  EXPECT_LT((last.linear_momentum - first.linear_momentum).norm(), 1e-13 * kMass);
   EXPECT_LT((last.angular_momentum - first.angular_momentum).norm(),
             1e-12 * first.angular_momentum.norm());
 }

@@ -186,6 +186,18 @@ VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x
   return {};
 }
 
+// q_{n+1} − qₙ for the step's velocities (9): the reparametrized free nodes' increments without
+// subtracting rounded coordinates (System::increment), so that the momenta's round-off scales
+// with the increments, not with the distance from the origin (docs/theory/schemes.md §7). The
+// other formulations' unknowns are the coordinates themselves.
+VecX EnergyMomentumIntegrator::increment(const StepContext& c, const VecX& x,
+                                         const VecX& q1) const {
+  if (settings_.formulation != F::reparametrized) return q1 - c.s->q;
+  VecX dq;
+  sys_.increment(c.s->q, x, q1, dq);
+  return dq;
+}
+
 namespace {
 void append(system::Triplets& t, const SpMat& A, int r0, int c0) {
   for (int k = 0; k < A.outerSize(); ++k)
@@ -261,7 +273,7 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
   const int n = sys_.n();
   const VecX q1 = configuration(c, x);
   const VecX qm = 0.5 * (s.q + q1);
-  const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
+  const VecX v1 = (2.0 / dt) * increment(c, x, q1) - s.v;
   SpMat Kf;
   // The mixed integration point Newton iteration (docs/theory/schemes.md §6): the geometric part
   // of Kf with the stresses of the strains linearized at the last iterate (qₙ's at a start), and
@@ -603,7 +615,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   if (!sys_.loads().empty())
     s.external_work += sys_.external_force(0.5 * (s.q + q1), c.t_mid).dot(dq);
   sys_.accept(q1);
-  s.v = (2.0 / c.dt) * (q1 - s.q) - s.v;
+  s.v = (2.0 / c.dt) * increment(c, x, q1) - s.v;
   s.q = q1;
   s.t += c.dt;
   return st;

@@ -477,7 +477,8 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   q1_qn_ = qn;
   q1_u_ = u;
   qm = 0.5 * (qn + q1);
-  v1 = (2.0 / dt) * (q1 - qn) - vn;
+  sys_.increment(qn, u, q1, dq_);
+  v1 = (2.0 / dt) * dq_ - vn;
   const bool want = Jout != nullptr;
   force(qn, q1, dt, t_mid, want);
   dv_ = v1 - vn;

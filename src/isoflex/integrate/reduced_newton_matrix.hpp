@@ -152,7 +152,7 @@ class ReducedNewtonMatrix {
   mutable std::vector<Block> scaled_mass_;  // (2/Δt) M of the pairs at Δt = scaled_mass_dt_
   mutable double scaled_mass_dt_ = 0.0;
   mutable MatX Ke_;
-  mutable VecX a_, b_, l_, f_, element_dv_, q1_, qm_, v1_, dv_, r0_, R_, y_, rhs_, lambda_, x_,
+  mutable VecX a_, b_, l_, f_, element_dv_, q1_, dq_, qm_, v1_, dv_, r0_, R_, y_, rhs_, lambda_, x_,
       check_;
   mutable std::vector<Mat3> steps_;
   mutable std::vector<double> tangent_;

@@ -104,6 +104,13 @@ Q root_update(const Q& qn, const Vec<5>& u, Mat3* step) {
   return q;
 }
 
+Q root_increment(const Q& qn, const Vec<5>& u) {
+  const Vec3 d = qn.tail<3>();
+  Q dq;
+  dq << u.head<3>(), rotation_increment(rotation_axes(d) * u.tail<2>(), d);
+  return dq;
+}
+
 void transport_increments(const Q& qn, const Q& q1, Eigen::Ref<VecX> u) {
   const Vec3 theta = rotation_axes(qn.tail<3>()) * u.tail<2>();
   u.tail<2>() = rotation_axes(q1.tail<3>()).transpose() * theta;

@@ -38,6 +38,13 @@ class FrameNodeType final : public NodeType {
     step = rodrigues(u.segment<3>(3));
     return fn::update(qn, u, step);
   }
+  NodeVec root_increment(CRef qn, CRef u) const override {
+    NodeVec dq(fn::kCoords);
+    dq.head<3>() = u.head<3>();
+    for (int I = 0; I < 3; ++I)
+      dq.segment<3>(3 + 3 * I) = rotation_increment(u.segment<3>(3), qn.segment<3>(3 + 3 * I));
+    return dq;
+  }
   NodeMat root_update_block(CRef, CRef u) const override {
     Mat<6, 6> B = Mat<6, 6>::Identity();
     B.bottomRightCorner<3, 3>() = rodrigues_tangent(u.segment<3>(3));  // (37)
@@ -89,6 +96,7 @@ class DirectorNodeType final : public NodeType {
   NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
     return dn::root_update(qn, u, &step);
   }
+  NodeVec root_increment(CRef qn, CRef u) const override { return dn::root_increment(qn, u); }
   NodeMat root_update_block(CRef qn, CRef u) const override { return dn::root_update_block(qn, u); }
   void transport_increments(CRef qn, CRef q1, Eigen::Ref<VecX> u) const override {
     dn::transport_increments(qn, q1, u);
@@ -148,6 +156,7 @@ class PointNodeType final : public NodeType {
     step.setIdentity();
     return pn::update(qn, u);
   }
+  NodeVec root_increment(CRef, CRef u) const override { return u.head<3>(); }
   NodeMat root_update_block(CRef q, CRef) const override { return root_block(q); }
   // The last step's increment Δt v_{n−½} (scaled by the step ratio) is a better start than Δt vₙ:
   // the midpoint rule leaves the unresolved membrane modes of a thin KL shell undamped, and vₙ

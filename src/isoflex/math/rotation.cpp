@@ -6,14 +6,29 @@
 
 namespace isoflex {
 
-Mat3 rodrigues(const Vec3& theta) {
-  const double a = theta.norm();
-  const Mat3 t = skew(theta);
-  // sin(a)/a and ½ (sin(a/2)/(a/2))² written to stay accurate for small a.
+namespace {
+// sin(a)/a and ½ (sin(a/2)/(a/2))² = (1 − cos a)/a², written to stay accurate for small a.
+struct RodriguesFactors {
+  double s, c;
+};
+RodriguesFactors rodrigues_factors(double a) {
   const double s = a < 1e-4 ? 1.0 - a * a / 6.0 : std::sin(a) / a;
   const double h = a / 2.0;
   const double sh = h < 1e-4 ? 1.0 - h * h / 6.0 : std::sin(h) / h;
-  return Mat3::Identity() + s * t + 0.5 * sh * sh * t * t;
+  return {s, 0.5 * sh * sh};
+}
+}  // namespace
+
+Mat3 rodrigues(const Vec3& theta) {
+  const auto [s, c] = rodrigues_factors(theta.norm());
+  const Mat3 t = skew(theta);
+  return Mat3::Identity() + s * t + c * t * t;
+}
+
+Vec3 rotation_increment(const Vec3& theta, const Vec3& v) {
+  const auto [s, c] = rodrigues_factors(theta.norm());
+  const Vec3 tv = theta.cross(v);
+  return s * tv + c * theta.cross(tv);
 }
 
 Mat3 rodrigues_tangent(const Vec3& theta) {

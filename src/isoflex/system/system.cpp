@@ -671,6 +671,15 @@ void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& s
   }
 }
 
+void System::increment(const VecX& qn, const VecX& u, const VecX& q1, VecX& dq) const {
+  dq = q1 - qn;
+  for (std::size_t r = 0; r < roots_.size(); ++r) {
+    const int i = roots_[r];
+    dq.segment(nodes_[i].q_offset, coordinate_count(i)) =
+        node_type(i).root_increment(node_q(qn, i), u.segment(root_nu_offset_[r], root_width_[r]));
+  }
+}
+
 void System::extrapolate_increments(const VecX& q, const VecX& v, double dt, VecX& u) const {
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
