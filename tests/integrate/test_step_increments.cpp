@@ -1,10 +1,12 @@
-// The step's velocities v_{n+1} = (2/Δt)(q_{n+1} − qₙ) − vₙ from the free nodes' increments, not
-// from the difference of rounded coordinates (System::increment, NodeType::root_increment): the
-// momenta's round-off then scales with the increments, not with the distance from the origin.
-// Before, a director plate, a Kirchhoff–Love plate and a rigid body 100 m from the origin
-// drifted 5.4·10⁻¹¹, 2.3·10⁻¹⁰ and 1.4·10⁻¹⁰ in linear momentum (|p| = 2, 2, 0.1) over 40, 40
-// and 100 steps, and 3·10⁻¹¹ … 9·10⁻¹⁰ relative in angular momentum; now 2·10⁻¹⁵, 6·10⁻¹⁶, 0
-// and ~10⁻¹⁵.
+// The step's velocities v_{n+1} = (2/Δt)(q_{n+1} − qₙ) − vₙ from the increments, not from the
+// difference of rounded coordinates (docs/theory/schemes.md §7): the constrained and null-space
+// unknowns are Δq, the reparametrized free nodes' increments come from u (System::increment,
+// NodeType::root_increment). The momenta's round-off then scales with the increments, not with
+// the distance from the origin. Before, reparametrized, a director plate, a Kirchhoff–Love plate
+// and a rigid body 100 m from the origin drifted 5.4·10⁻¹¹, 2.3·10⁻¹⁰ and 1.4·10⁻¹⁰ in linear
+// momentum (|p| = 2, 2, 0.1) over 40, 40 and 100 steps, and 3·10⁻¹¹ … 9·10⁻¹⁰ relative in angular
+// momentum; now 2·10⁻¹⁵, 6·10⁻¹⁶, 0 and ~10⁻¹⁵. The constrained and null-space runs drifted
+// 6–9·10⁻¹¹ (plates) and now ≤ 3·10⁻¹⁵.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -21,8 +23,9 @@ struct Drift {
   double linear, angular, energy;  // |Δp|/|p|, |ΔL|/|L|, |ΔE|/E
 };
 
-Drift drift_after(const std::string& yaml, int steps) {
-  const model::Model m = io::read_model_string(yaml, "far.yaml");
+Drift drift_after(const std::string& yaml, int steps, model::Formulation f) {
+  model::Model m = io::read_model_string(yaml, "far.yaml");
+  m.solver.formulation = f;
   const auto sys = system::System::compile(m);
   integrate::EnergyMomentumIntegrator integ(sys, m.solver);
   auto s = integ.initial_state();
@@ -40,37 +43,43 @@ const std::string kSpin =
     "    velocity: [0.1, 0, 0]\n    angular_velocity: [0.3, 0, 1]\n"
     "    velocity_point: [101, 100.5, 0]\n";
 
-void expect_round_off(const Drift& d) {
-  EXPECT_LT(d.linear, 1e-14);
-  EXPECT_LT(d.angular, 1e-14);
-  EXPECT_LT(d.energy, 1e-12);
+void expect_round_off(const std::string& yaml, int steps) {
+  using F = model::Formulation;
+  for (const F f : {F::constrained, F::nullspace, F::reparametrized}) {
+    const Drift d = drift_after(yaml, steps, f);
+    EXPECT_LT(d.linear, 1e-14) << model::to_string(f);
+    EXPECT_LT(d.angular, 1e-14) << model::to_string(f);
+    // The energy keeps V's own round-off: strains from coordinates of size 100 (the director
+    // plate: 1.1·10⁻¹² in the constrained run, 1.7·10⁻¹¹ before at most along it).
+    EXPECT_LT(d.energy, 5e-12) << model::to_string(f);
+  }
 }
 
 }  // namespace
 
 TEST(StepIncrements, DirectorShellFarFromTheOriginKeepsItsMomenta) {
-  expect_round_off(drift_after(
+  expect_round_off(
       "name: far\nsolver: {dt: 0.005, t_end: 1}\nshells:\n  - name: p\n"
       "    plate: {corners: [[100, 100, 0], [102, 100, 0], [102, 101, 0], [100, 101, 0]],"
       " elements: [4, 2]}\n" +
           kSpin,
-      40));
+      40);
 }
 
 TEST(StepIncrements, KirchhoffLoveShellFarFromTheOriginKeepsItsMomenta) {
   expect_round_off(
-      drift_after("name: far\nsolver: {dt: 0.005, t_end: 1}\nsurfaces:\n"
-                  "  - {name: s, builtin: {type: rectangle, size: [2, 1], corner: [100, 100, 0]},\n"
-                  "     refine: {elevate: [1, 1], knots_per_span: [1, 1]}}\n"
-                  "kl_shells:\n  - name: p\n    surface: s\n" +
-                      kSpin,
-                  40));
+      "name: far\nsolver: {dt: 0.005, t_end: 1}\nsurfaces:\n"
+      "  - {name: s, builtin: {type: rectangle, size: [2, 1], corner: [100, 100, 0]},\n"
+      "     refine: {elevate: [1, 1], knots_per_span: [1, 1]}}\n"
+      "kl_shells:\n  - name: p\n    surface: s\n" +
+          kSpin,
+      40);
 }
 
 TEST(StepIncrements, RigidBodyFarFromTheOriginKeepsItsMomenta) {
-  expect_round_off(drift_after(
+  expect_round_off(
       "name: far\nsolver: {dt: 0.01, t_end: 1}\nbodies:\n  - name: nut\n    mass: 1.0\n"
       "    inertia: [1.0, 2.0, 3.0]\n    position: [100, 100, 100]\n    velocity: [0.1, 0, 0]\n"
       "    angular_velocity: [0.01, 5.0, 0.01]\n",
-      100));
+      100);
 }

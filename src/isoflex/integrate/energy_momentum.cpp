@@ -126,30 +126,36 @@ EnergyMomentumIntegrator::StepContext EnergyMomentumIntegrator::context(const St
   return c;
 }
 
-VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predictor p) const {
+VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predictor p,
+                                              const VecX* q0) const {
   const bool have = s.last_unknowns.size() == unknowns();
   const double ratio = s.last_dt > 0.0 ? dt / s.last_dt : 1.0;
   switch (settings_.formulation) {
     case F::constrained: {
       // λ ≈ λₙ in every predictor.
       VecX x = have ? s.last_unknowns : VecX::Zero(unknowns());
-      x.head(sys_.n()) = s.q;
+      if (q0)
+        x.head(sys_.n()) = *q0;
+      else
+        x.head(sys_.n()).setZero();
       if (have && p == Predictor::extrapolated) {
         x.head(sys_.n()) += dt * s.v;
-        secant_directors(s, ratio, x);
+        secant_directors(s, ratio, q0, x);
       }
       if (have && p == Predictor::secant)
         x.head(sys_.n()) += ratio * s.last_unknowns.head(sys_.n());
       return x;
     }
-    case F::nullspace:
+    case F::nullspace: {
+      const VecX x = q0 ? *q0 : VecX::Zero(sys_.n());
       if (have && p == Predictor::extrapolated) {
-        VecX q = s.q + dt * s.v;
-        secant_directors(s, ratio, q);
+        VecX q = x + dt * s.v;
+        secant_directors(s, ratio, q0, q);
         return q;
       }
-      if (have && p == Predictor::secant) return s.q + ratio * s.last_unknowns;
-      return s.q;
+      if (have && p == Predictor::secant) return x + ratio * s.last_unknowns;
+      return x;
+    }
     case F::reparametrized: {
       VecX u = VecX::Zero(sys_.k());
       if (!have || p == Predictor::at_rest) return u;
@@ -164,20 +170,22 @@ VecX EnergyMomentumIntegrator::start_unknowns(const State& s, double dt, Predict
 // The extrapolation moves a director node's position by Δt vₙ and its director as in the last
 // step (NodeType::extrapolate, the same in the reparametrized formulation): vₙ of a director
 // carries the period-2 oscillation of the unresolved director modes, the secant does not.
-void EnergyMomentumIntegrator::secant_directors(const State& s, double ratio, VecX& x) const {
+void EnergyMomentumIntegrator::secant_directors(const State& s, double ratio, const VecX* q0,
+                                                VecX& x) const {
   for (int i = 0; i < sys_.node_count(); ++i)
     if (sys_.node_kind(i) == NodeKind::director) {
       const int d = sys_.q_offset(i) + 3;
-      x.segment<3>(d) = s.q.segment<3>(d) + ratio * s.last_unknowns.segment<3>(d);
+      const Vec3 origin = q0 ? Vec3(q0->segment<3>(d)) : Vec3::Zero();
+      x.segment<3>(d) = origin + ratio * s.last_unknowns.segment<3>(d);
     }
 }
 
 VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x) const {
   switch (settings_.formulation) {
     case F::constrained:
-      return x.head(sys_.n());
+      return c.s->q + x.head(sys_.n());
     case F::nullspace:
-      return x;
+      return c.s->q + x;
     case F::reparametrized:
       if (blocks_)
         if (const VecX* q1 = blocks_->configuration(c.s->q, x)) return *q1;
@@ -186,13 +194,20 @@ VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x
   return {};
 }
 
-// q_{n+1} − qₙ for the step's velocities (9): the reparametrized free nodes' increments without
-// subtracting rounded coordinates (System::increment), so that the momenta's round-off scales
-// with the increments, not with the distance from the origin (docs/theory/schemes.md §7). The
-// other formulations' unknowns are the coordinates themselves.
+// q_{n+1} − qₙ for the step's velocities (9) without subtracting rounded coordinates, so that the
+// momenta's round-off scales with the increments, not with the distance from the origin
+// (docs/theory/schemes.md §7): the constrained and null-space unknowns are the increment itself,
+// the reparametrized free nodes' increments come from u (System::increment).
 VecX EnergyMomentumIntegrator::increment(const StepContext& c, const VecX& x,
                                          const VecX& q1) const {
-  if (settings_.formulation != F::reparametrized) return q1 - c.s->q;
+  switch (settings_.formulation) {
+    case F::constrained:
+      return x.head(sys_.n());
+    case F::nullspace:
+      return x;
+    case F::reparametrized:
+      break;
+  }
   VecX dq;
   sys_.increment(c.s->q, x, q1, dq);
   return dq;
@@ -424,10 +439,16 @@ double EnergyMomentumIntegrator::start_residual(const StepContext& c, Predictor 
       .lpNorm<Eigen::Infinity>();
 }
 
+VecX EnergyMomentumIntegrator::start_unknowns(const State& s) const {
+  return start_unknowns(s, settings_.dt, Predictor::extrapolated, &s.q);
+}
+
 VecX EnergyMomentumIntegrator::residual(const State& s, const VecX& x, MatX* J) const {
   const StepContext c = context(s, settings_.dt);
   NewtonMatrix Js;
-  const VecX R = evaluate(c, x, J ? &Js : nullptr, false);
+  VecX dx = x;
+  if (settings_.formulation != F::reparametrized) dx.head(sys_.n()) -= s.q;
+  const VecX R = evaluate(c, dx, J ? &Js : nullptr, false);
   if (J) *J = MatX(Js.A);
   return R;
 }
@@ -602,7 +623,6 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
       s.driver_work -= s.lambda(p) * dd(sys_.selected_rows()[static_cast<std::size_t>(p)]);
   }
   s.last_unknowns = x;
-  if (settings_.formulation != F::reparametrized) s.last_unknowns.head(sys_.n()) = q1 - s.q;
   if (settings_.formulation == F::reparametrized)
     sys_.transport_increments(s.q, q1, s.last_unknowns);
   const VecX dq = q1 - s.q;

@@ -2,10 +2,12 @@
 // The three energy–momentum formulations of DNSM-III, all on the same element kernels
 // (docs/theory/schemes.md). With v_{n+1} = (2/Δt)(q_{n+1} − q_n) − v_n inserted,
 //   r₀(q_{n+1}) = M (v_{n+1} − v_n) + Δt [DV(q_n, q_{n+1}) − f_ext(q_{n+½}, t_{n+½})],
-//   constrained (9):      r₀ + Δt 𝖦ᵀ λ = 0,  Φ(q_{n+1}) = 0;     unknowns (q_{n+1}, λ), n + m
-//   null space (11):      𝖯ᵀ r₀ = 0,         Φ(q_{n+1}) = 0;     unknowns q_{n+1},      n
+//   constrained (9):      r₀ + Δt 𝖦ᵀ λ = 0,  Φ(q_{n+1}) = 0;     unknowns (Δq, λ),      n + m
+//   null space (11):      𝖯ᵀ r₀ = 0,         Φ(q_{n+1}) = 0;     unknowns Δq,           n
 //   reparametrized (14):  𝖯ᵀ r₀(F(u)) = 0,   Φ_cut(F(u)) = 0;    unknowns u,            n − m
 //                                                                 (+ independent loop rows)
+// with Δq = q_{n+1} − q_n: every formulation iterates on increments, and the velocities come
+// from them, not from the difference of rounded coordinates (schemes.md §7).
 // with 𝖦 = G(q_{n+½}) (all constraints are at most quadratic, (23)), 𝖯 = P_tree(q_{n+½}) for
 // the internal and tree joint constraints (Table 3, iii.1) times the implicit null space (13) of
 // the loop-closing rows (iii.3).
@@ -60,10 +62,10 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
 
   // Residual R(x) and Newton matrix J(x) of the step from s, at the unknowns x (for tests and
   // condition numbers). start_unknowns(s) is the Newton start value: q_{n+1} = qₙ (u = 0) at the
-  // first step, the extrapolation of the last step after that.
-  VecX start_unknowns(const State& s) const {
-    return start_unknowns(s, settings_.dt, Predictor::extrapolated);
-  }
+  // first step, the extrapolation of the last step after that. Here x holds coordinates,
+  // (q_{n+1}, λ), q_{n+1} or u; the step itself iterates on Δq = q_{n+1} − qₙ in place of q_{n+1}
+  // (docs/theory/schemes.md §1).
+  VecX start_unknowns(const State& s) const;
   VecX residual(const State& s, const VecX& x, MatX* J) const;
 
   Snapshot snapshot(
@@ -75,10 +77,11 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   StepContext context(const State& s, double dt) const;
   // Newton start values: qₙ + Δt vₙ with the directors turned as in the last step (λₙ; the last
   // u with the free nodes' positions moved by Δt vₙ), qₙ (u = 0), or the secant
-  // qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u).
+  // qₙ + (Δt/Δtₙ₋₁)(qₙ − qₙ₋₁) (the last u). The constrained and null-space starts are the
+  // increments Δq (the step's unknowns), or coordinates with q0 = qₙ (start_unknowns(s)).
   enum class Predictor { extrapolated, at_rest, secant };
-  VecX start_unknowns(const State& s, double dt, Predictor p) const;
-  void secant_directors(const State& s, double ratio, VecX& x) const;
+  VecX start_unknowns(const State& s, double dt, Predictor p, const VecX* q0 = nullptr) const;
+  void secant_directors(const State& s, double ratio, const VecX* q0, VecX& x) const;
   // One step of length dt (s.step unchanged); throws NewtonFailure.
   // The Newton residual scale of a step from s; `full` = (2/Δt)‖M qₙ‖∞ + ‖M vₙ‖∞.
   double residual_scale(const State& s, double dt, double full) const;
