@@ -1,12 +1,12 @@
 // The step's velocities v_{n+1} = (2/Δt)(q_{n+1} − qₙ) − vₙ from the increments, not from the
 // difference of rounded coordinates (docs/theory/schemes.md §7): the constrained and null-space
-// unknowns are Δq, the reparametrized free nodes' increments come from u (System::increment,
-// NodeType::root_increment). The momenta's round-off then scales with the increments, not with
-// the distance from the origin. Before, reparametrized, a director plate, a Kirchhoff–Love plate
-// and a rigid body 100 m from the origin drifted 5.4·10⁻¹¹, 2.3·10⁻¹⁰ and 1.4·10⁻¹⁰ in linear
-// momentum (|p| = 2, 2, 0.1) over 40, 40 and 100 steps, and 3·10⁻¹¹ … 9·10⁻¹⁰ relative in angular
-// momentum; now 2·10⁻¹⁵, 6·10⁻¹⁶, 0 and ~10⁻¹⁵. The constrained and null-space runs drifted
-// 6–9·10⁻¹¹ (plates) and now ≤ 3·10⁻¹⁵.
+// unknowns are Δq, the reparametrized free nodes' increments come from u (System::update,
+// NodeType::root_update with an increment). The momenta's round-off then scales with the
+// increments, not with the distance from the origin. Before, reparametrized, a director plate, a
+// Kirchhoff–Love plate and a rigid body 100 m from the origin drifted 5.4·10⁻¹¹, 2.3·10⁻¹⁰
+// and 1.4·10⁻¹⁰ in linear momentum (|p| = 2, 2, 0.1) over 40, 40 and 100 steps, and 3·10⁻¹¹ …
+// 9·10⁻¹⁰ relative in angular momentum; now 8·10⁻¹⁶, 6·10⁻¹⁶, 0 and ≤ 10⁻¹⁵. The constrained and
+// null-space runs drifted 6–9·10⁻¹¹ (plates) and now ≤ 3·10⁻¹⁵.
 #include <gtest/gtest.h>
 
 #include <string>

@@ -180,37 +180,29 @@ void EnergyMomentumIntegrator::secant_directors(const State& s, double ratio, co
     }
 }
 
-VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x) const {
+// With `increment`, also q_{n+1} − qₙ for the step's velocities (9) without subtracting rounded
+// coordinates, so that the momenta's round-off scales with the increments, not with the
+// distance from the origin (docs/theory/schemes.md §7): the constrained and null-space unknowns
+// are the increment itself, the reparametrized free nodes' come from u (System::update).
+VecX EnergyMomentumIntegrator::configuration(const StepContext& c, const VecX& x,
+                                             VecX* increment) const {
   switch (settings_.formulation) {
     case F::constrained:
+      if (increment) *increment = x.head(sys_.n());
       return c.s->q + x.head(sys_.n());
     case F::nullspace:
+      if (increment) *increment = x;
       return c.s->q + x;
-    case F::reparametrized:
+    case F::reparametrized: {
       if (blocks_)
-        if (const VecX* q1 = blocks_->configuration(c.s->q, x)) return *q1;
-      return sys_.update(c.s->q, x);
+        if (const VecX* q1 = blocks_->configuration(c.s->q, x, increment)) return *q1;
+      VecX q;
+      std::vector<Mat3> step;
+      sys_.update(c.s->q, x, q, step, increment);
+      return q;
+    }
   }
   return {};
-}
-
-// q_{n+1} − qₙ for the step's velocities (9) without subtracting rounded coordinates, so that the
-// momenta's round-off scales with the increments, not with the distance from the origin
-// (docs/theory/schemes.md §7): the constrained and null-space unknowns are the increment itself,
-// the reparametrized free nodes' increments come from u (System::increment).
-VecX EnergyMomentumIntegrator::increment(const StepContext& c, const VecX& x,
-                                         const VecX& q1) const {
-  switch (settings_.formulation) {
-    case F::constrained:
-      return x.head(sys_.n());
-    case F::nullspace:
-      return x;
-    case F::reparametrized:
-      break;
-  }
-  VecX dq;
-  sys_.increment(c.s->q, x, q1, dq);
-  return dq;
 }
 
 namespace {
@@ -286,9 +278,10 @@ VecX EnergyMomentumIntegrator::evaluate_assembled(const StepContext& c, const Ve
   const State& s = *c.s;
   const double dt = c.dt;
   const int n = sys_.n();
-  const VecX q1 = configuration(c, x);
+  VecX increment;
+  const VecX q1 = configuration(c, x, &increment);
   const VecX qm = 0.5 * (s.q + q1);
-  const VecX v1 = (2.0 / dt) * increment(c, x, q1) - s.v;
+  const VecX v1 = (2.0 / dt) * increment - s.v;
   SpMat Kf;
   // The mixed integration point Newton iteration (docs/theory/schemes.md §6): the geometric part
   // of Kf with the stresses of the strains linearized at the last iterate (qₙ's at a start), and
@@ -608,7 +601,8 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
     ++st.failed_starts;
   }
   st.iterations += spent;
-  const VecX q1 = configuration(c, x);
+  VecX increment;
+  const VecX q1 = configuration(c, x, &increment);
   // Prescribed motions (rheonomic rows Φ(q) = d(t), held at t_{n+1}): the constraint forces
   // G̃ᵀλ add −λ·(d(tₙ₊₁) − d(tₙ)) to the energy in the step, exactly (G̃ Δq = ΔΦ; DNSM-III (9)
   // with a right-hand side): the drivers' work, summed wherever the step's λ is recovered (joint
@@ -635,7 +629,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   if (!sys_.loads().empty())
     s.external_work += sys_.external_force(0.5 * (s.q + q1), c.t_mid).dot(dq);
   sys_.accept(q1);
-  s.v = (2.0 / c.dt) * increment(c, x, q1) - s.v;
+  s.v = (2.0 / c.dt) * increment - s.v;
   s.q = q1;
   s.t += c.dt;
   return st;

@@ -121,8 +121,7 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // (2/Δt) M + Δt ∂f/∂q + ½Δt Σ λ̂ᵢ Hᵢ(q_{n+½}) of the reduced schemes, λ̂ from r₀.
   system::SpMat reduced_stiffness(const VecX& qm, const system::SpMat& Gm, const VecX& r0,
                                   const system::SpMat& Kf, double dt) const;
-  VecX configuration(const StepContext& c, const VecX& x) const;
-  VecX increment(const StepContext& c, const VecX& x, const VecX& q1) const;
+  VecX configuration(const StepContext& c, const VecX& x, VecX* increment = nullptr) const;
   // The multipliers of the selected rows for the step qₙ → q1 (State::lambda, for the joint
   // reactions): the least-squares solution of G̃ᵀλ = −r₀/Δt, r₀ = M(vₙ₊₁ − vₙ) + Δt f, i.e. the
   // constrained form (DNSM-III (9)) that every formulation solves in its own unknowns — exact to

@@ -473,11 +473,10 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   // Every vector is a kept workspace: an iteration allocates nothing.
   const int N = sys_.node_count();
   VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
-  sys_.update(qn, u, q1, steps_);  // (14), (37)
+  sys_.update(qn, u, q1, steps_, &dq_);  // (14), (37)
   q1_qn_ = qn;
   q1_u_ = u;
   qm = 0.5 * (qn + q1);
-  sys_.increment(qn, u, q1, dq_);
   v1 = (2.0 / dt) * dq_ - vn;
   const bool want = Jout != nullptr;
   force(qn, q1, dt, t_mid, want);
@@ -649,9 +648,11 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   return R_;
 }
 
-const VecX* ReducedNewtonMatrix::configuration(const VecX& qn, const VecX& u) const {
+const VecX* ReducedNewtonMatrix::configuration(const VecX& qn, const VecX& u,
+                                               VecX* increment) const {
   const bool same =
       qn.size() == q1_qn_.size() && u.size() == q1_u_.size() && qn == q1_qn_ && u == q1_u_;
+  if (same && increment) *increment = dq_;
   return same ? &q1_ : nullptr;
 }
 

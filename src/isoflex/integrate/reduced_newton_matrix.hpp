@@ -55,8 +55,8 @@ class ReducedNewtonMatrix {
   bool multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt, double t_mid,
                    solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
   // q_{n+1} = F_{qₙ}(u) of the last evaluate() if it was at (qn, u) (a converged iterate: its
-  // residual was the last one), else null.
-  const VecX* configuration(const VecX& qn, const VecX& u) const;
+  // residual was the last one), and its increment q_{n+1} − qₙ (System::update), else null.
+  const VecX* configuration(const VecX& qn, const VecX& u, VecX* increment = nullptr) const;
   // Solves J x = b for a J of evaluate(): block LU in a fixed elimination order (block_lu.hpp),
   // checked by its residual; the sparse LU with its kept symbolic analysis where that fails.
   // refactorize = false: J is the matrix of the last call, solved with its kept factorization.

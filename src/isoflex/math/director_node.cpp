@@ -96,19 +96,15 @@ Mat<6, 5> root_block(const Q& q) {
   return B;
 }
 
-Q root_update(const Q& qn, const Vec<5>& u, Mat3* step) {
-  const Mat3 R = rodrigues(rotation_axes(qn.tail<3>()) * u.tail<2>());
+Q root_update(const Q& qn, const Vec<5>& u, Mat3* step, Q* increment) {
+  const Vec3 theta = rotation_axes(qn.tail<3>()) * u.tail<2>();
+  Mat3 A;
+  const Mat3 R = increment ? rodrigues(theta, A) : rodrigues(theta);
   if (step) *step = R;
+  if (increment) *increment << u.head<3>(), A * qn.tail<3>();
   Q q;
   q << qn.head<3>() + u.head<3>(), R * qn.tail<3>();
   return q;
-}
-
-Q root_increment(const Q& qn, const Vec<5>& u) {
-  const Vec3 d = qn.tail<3>();
-  Q dq;
-  dq << u.head<3>(), rotation_increment(rotation_axes(d) * u.tail<2>(), d);
-  return dq;
 }
 
 void transport_increments(const Q& qn, const Q& q1, Eigen::Ref<VecX> u) {

@@ -38,12 +38,13 @@ class FrameNodeType final : public NodeType {
     step = rodrigues(u.segment<3>(3));
     return fn::update(qn, u, step);
   }
-  NodeVec root_increment(CRef qn, CRef u) const override {
-    NodeVec dq(fn::kCoords);
-    dq.head<3>() = u.head<3>();
-    for (int I = 0; I < 3; ++I)
-      dq.segment<3>(3 + 3 * I) = rotation_increment(u.segment<3>(3), qn.segment<3>(3 + 3 * I));
-    return dq;
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+    Mat3 A;
+    step = rodrigues(u.segment<3>(3), A);
+    increment.resize(fn::kCoords);
+    increment.head<3>() = u.head<3>();
+    for (int I = 0; I < 3; ++I) increment.segment<3>(3 + 3 * I) = A * qn.segment<3>(3 + 3 * I);
+    return fn::update(qn, u, step);
   }
   NodeMat root_update_block(CRef, CRef u) const override {
     Mat<6, 6> B = Mat<6, 6>::Identity();
@@ -96,7 +97,12 @@ class DirectorNodeType final : public NodeType {
   NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
     return dn::root_update(qn, u, &step);
   }
-  NodeVec root_increment(CRef qn, CRef u) const override { return dn::root_increment(qn, u); }
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+    dn::Q dq;
+    const dn::Q q = dn::root_update(qn, u, &step, &dq);
+    increment = dq;
+    return q;
+  }
   NodeMat root_update_block(CRef qn, CRef u) const override { return dn::root_update_block(qn, u); }
   void transport_increments(CRef qn, CRef q1, Eigen::Ref<VecX> u) const override {
     dn::transport_increments(qn, q1, u);
@@ -156,7 +162,10 @@ class PointNodeType final : public NodeType {
     step.setIdentity();
     return pn::update(qn, u);
   }
-  NodeVec root_increment(CRef, CRef u) const override { return u.head<3>(); }
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+    increment = u.head<3>();
+    return root_update(qn, u, step);
+  }
   NodeMat root_update_block(CRef q, CRef) const override { return root_block(q); }
   // The last step's increment Δt v_{n−½} (scaled by the step ratio) is a better start than Δt vₙ:
   // the midpoint rule leaves the unresolved membrane modes of a thin KL shell undamped, and vₙ

@@ -57,11 +57,17 @@ class NodeType {
   // The update map of a free node and the node's rotation over the step (identity for a kind
   // without one): what the tree joints below it apply (joints/joint.hpp).
   virtual NodeVec root_update(CRef qn, CRef u, Mat3& step) const = 0;
-  // root_update(qn, u) − qn without subtracting rounded coordinates: a position's increment is u
-  // itself, a rotated vector's (exp(θ̂) − I) v. The step's velocities come from it, so that their
-  // round-off scales with the increments, not with the node's distance from the origin (the
-  // momenta's drift, docs/theory/schemes.md §7).
-  virtual NodeVec root_increment(CRef qn, CRef u) const = 0;
+  // The same, and its increment q_{n+1} − qₙ without subtracting rounded coordinates: a
+  // position's is u itself, a rotated vector's (exp(θ̂) − I) v from the update's own factors. The
+  // step's velocities come from it, so that their round-off scales with the increments, not with
+  // the node's distance from the origin (the momenta's drift, docs/theory/schemes.md §7).
+  virtual NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const = 0;
+  NodeVec root_increment(CRef qn, CRef u) const {
+    Mat3 step;
+    NodeVec increment;
+    root_update(qn, u, step, increment);
+    return increment;
+  }
   // ∂t/∂u of root_update at t_{n+1} (6 × free_velocities).
   virtual NodeMat root_update_block(CRef qn, CRef u) const = 0;
   // The increments of a step of length dt at the constant velocity v, written into u, for the

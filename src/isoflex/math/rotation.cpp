@@ -25,10 +25,11 @@ Mat3 rodrigues(const Vec3& theta) {
   return Mat3::Identity() + s * t + c * t * t;
 }
 
-Vec3 rotation_increment(const Vec3& theta, const Vec3& v) {
+Mat3 rodrigues(const Vec3& theta, Mat3& minus_identity) {
   const auto [s, c] = rodrigues_factors(theta.norm());
-  const Vec3 tv = theta.cross(v);
-  return s * tv + c * theta.cross(tv);
+  const Mat3 t = skew(theta);
+  minus_identity = s * t + c * t * t;
+  return Mat3::Identity() + s * t + c * t * t;  // rodrigues(θ)'s expression: the same roundings
 }
 
 Mat3 rodrigues_tangent(const Vec3& theta) {

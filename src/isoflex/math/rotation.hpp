@@ -6,9 +6,10 @@ namespace isoflex {
 // Rodrigues formula, DNSM-III (35): exp(θ̂).
 Mat3 rodrigues(const Vec3& theta);
 
-// (exp(θ̂) − I) v, without forming exp(θ̂) v and subtracting v: its round-off is ε|θ||v|, not ε|v|
-// (the velocities of a step, NodeType::root_increment).
-Vec3 rotation_increment(const Vec3& theta, const Vec3& v);
+// The same with exp(θ̂) − I = (sin a/a) θ̂ + ((1 − cos a)/a²) θ̂² (a = |θ|) from the same factors, to
+// the precision of its own entries (~|θ|), not of I: (exp(θ̂) − I) v is a rotated vector's
+// increment without subtracting rounded vectors (the velocities of a step, NodeType::root_update).
+Mat3 rodrigues(const Vec3& theta, Mat3& minus_identity);
 
 // Left tangent operator T(θ): δ(exp(θ̂) v) = (T(θ) δθ) × (exp(θ̂) v).
 // T = I + (1 − cos|θ|)/|θ|² θ̂ + (|θ| − sin|θ|)/|θ|³ θ̂².

@@ -652,14 +652,23 @@ VecX System::update(const VecX& qn, const VecX& u) const {
   return q;
 }
 
-void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const {
+void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step,
+                    VecX* increment) const {
   q = qn;
+  if (increment) increment->setZero(qn.size());
   // Rotation of every node over the step (joints/joint.hpp): what the joints below it apply.
   step.assign(static_cast<std::size_t>(node_count()), Mat3::Identity());
+  NodeVec dq;
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
-    q.segment(nodes_[i].q_offset, coordinate_count(i)) = node_type(i).root_update(
-        node_q(qn, i), u.segment(root_nu_offset_[r], root_width_[r]), step[i]);
+    const auto ui = u.segment(root_nu_offset_[r], root_width_[r]);
+    const int at = nodes_[i].q_offset, size = coordinate_count(i);
+    if (!increment) {
+      q.segment(at, size) = node_type(i).root_update(node_q(qn, i), ui, step[i]);
+      continue;
+    }
+    q.segment(at, size) = node_type(i).root_update(node_q(qn, i), ui, step[i], dq);
+    increment->segment(at, size) = dq;
   }
   const Mat3 ground_step = Mat3::Identity();
   for (int j : tree_order_) {
@@ -668,15 +677,10 @@ void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& s
     q.segment(nodes_[c].q_offset, coordinate_count(c)) = J.joint->update(
         node_q(qn, J.parent), node_q(q, J.parent), J.parent >= 0 ? step[J.parent] : ground_step,
         node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c]);
-  }
-}
-
-void System::increment(const VecX& qn, const VecX& u, const VecX& q1, VecX& dq) const {
-  dq = q1 - qn;
-  for (std::size_t r = 0; r < roots_.size(); ++r) {
-    const int i = roots_[r];
-    dq.segment(nodes_[i].q_offset, coordinate_count(i)) =
-        node_type(i).root_increment(node_q(qn, i), u.segment(root_nu_offset_[r], root_width_[r]));
+    if (increment) {
+      const int at = nodes_[c].q_offset, size = coordinate_count(c);
+      increment->segment(at, size) = q.segment(at, size) - qn.segment(at, size);
+    }
   }
 }
 

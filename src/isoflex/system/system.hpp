@@ -316,12 +316,11 @@ class System {
   VecX update(const VecX& qn, const VecX& u) const;
   // The same into q, with `step` (the nodes' rotations over the step) as workspace: no heap
   // allocation once both have their sizes (a Newton iteration).
-  void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step) const;
-  // q1 − qn of the step q1 = update(qn, u): the free nodes' parts without subtracting rounded
-  // coordinates (NodeType::root_increment), the nodes below joints by the difference. The
-  // step's velocities come from it (integrate/energy_momentum.cpp). Into dq: no heap allocation
-  // once it has its size.
-  void increment(const VecX& qn, const VecX& u, const VecX& q1, VecX& dq) const;
+  // With `increment`, also q − qn: the free nodes' parts without subtracting rounded coordinates
+  // (NodeType::root_update), the nodes below joints by the difference. The step's velocities
+  // come from it (integrate/energy_momentum.cpp).
+  void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step,
+              VecX* increment = nullptr) const;
   // The tree coordinates ν that are rotations, for the trust region of a reparametrized Newton
   // correction (integrate/energy_momentum.cpp): the rotation increments of free frames and
   // directors and the joint velocities that turn the child (a column of the freedom block with
