@@ -17,8 +17,10 @@ class GlobalMatrix {
   using SpMat = Eigen::SparseMatrix<double>;
 
   GlobalMatrix() = default;
-  GlobalMatrix(const GlobalMatrix&) = default;
-  GlobalMatrix& operator=(const GlobalMatrix&) = default;
+  // Not copied: the pattern's value array is never written (pattern()), and nothing copies a
+  // System's matrices.
+  GlobalMatrix(const GlobalMatrix&) = delete;
+  GlobalMatrix& operator=(const GlobalMatrix&) = delete;
   // Moves swap the pattern: Eigen 3.4's SparseMatrix has no move constructor, and a copy of the
   // pattern would write its whole value array (a System is moved once, when it is compiled).
   GlobalMatrix(GlobalMatrix&& other) noexcept { swap(other); }
