@@ -34,10 +34,6 @@ class FrameNodeType final : public NodeType {
     return fn::null_space(q).transpose() * fn::Q(r);
   }
   NodeVec free_force(CRef, const Vec<6>& y) const override { return y; }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
-    step = rodrigues(u.segment<3>(3));
-    return fn::update(qn, u, step);
-  }
   NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
     Mat3 A;
     step = rodrigues(u.segment<3>(3), A);
@@ -93,9 +89,6 @@ class DirectorNodeType final : public NodeType {
   }
   NodeVec free_force(CRef q, const Vec<6>& y) const override {
     return dn::root_block(q).transpose() * y;
-  }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
-    return dn::root_update(qn, u, &step);
   }
   NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
     dn::Q dq;
@@ -158,13 +151,10 @@ class PointNodeType final : public NodeType {
     return y;
   }
   NodeVec free_force(CRef, const Vec<6>& y) const override { return y.head<3>(); }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step) const override {
-    step.setIdentity();
-    return pn::update(qn, u);
-  }
   NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+    step.setIdentity();
     increment = u.head<3>();
-    return root_update(qn, u, step);
+    return pn::update(qn, u);
   }
   NodeMat root_update_block(CRef q, CRef) const override { return root_block(q); }
   // The last step's increment Δt v_{n−½} (scaled by the step ratio) is a better start than Δt vₙ:

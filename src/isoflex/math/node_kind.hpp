@@ -56,12 +56,15 @@ class NodeType {
   virtual NodeVec free_force(CRef q, const Vec<6>& y) const = 0;
   // The update map of a free node and the node's rotation over the step (identity for a kind
   // without one): what the tree joints below it apply (joints/joint.hpp).
-  virtual NodeVec root_update(CRef qn, CRef u, Mat3& step) const = 0;
-  // The same, and its increment q_{n+1} − qₙ without subtracting rounded coordinates: a
-  // position's is u itself, a rotated vector's (exp(θ̂) − I) v from the update's own factors. The
-  // step's velocities come from it, so that their round-off scales with the increments, not with
-  // the node's distance from the origin (the momenta's drift, docs/theory/schemes.md §7).
+  // With its increment q_{n+1} − qₙ without subtracting rounded coordinates: a position's is u
+  // itself, a rotated vector's (exp(θ̂) − I) v from the update's own factors. The step's
+  // velocities come from it, so that their round-off scales with the increments, not with the
+  // node's distance from the origin (the momenta's drift, docs/theory/schemes.md §7).
   virtual NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const = 0;
+  NodeVec root_update(CRef qn, CRef u, Mat3& step) const {
+    NodeVec increment;
+    return root_update(qn, u, step, increment);
+  }
   NodeVec root_increment(CRef qn, CRef u) const {
     Mat3 step;
     NodeVec increment;

@@ -663,12 +663,8 @@ void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& s
     const int i = roots_[r];
     const auto ui = u.segment(root_nu_offset_[r], root_width_[r]);
     const int at = nodes_[i].q_offset, size = coordinate_count(i);
-    if (!increment) {
-      q.segment(at, size) = node_type(i).root_update(node_q(qn, i), ui, step[i]);
-      continue;
-    }
     q.segment(at, size) = node_type(i).root_update(node_q(qn, i), ui, step[i], dq);
-    increment->segment(at, size) = dq;
+    if (increment) increment->segment(at, size) = dq;
   }
   const Mat3 ground_step = Mat3::Identity();
   for (int j : tree_order_) {
