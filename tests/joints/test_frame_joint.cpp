@@ -3,6 +3,7 @@
 #include "isoflex/joints/frame_joint.hpp"
 #include "isoflex/math/rotation.hpp"
 #include "support/finite_difference.hpp"
+#include "support/joint_increments.hpp"
 
 using namespace isoflex;
 using namespace isoflex::test;
@@ -141,6 +142,16 @@ TEST_P(FrameJointTest, ParentOrthonormalityErrorDoesNotAccumulateInTheChild) {
   }
   // Locked rotation: R_B = R_A C_A C_Bᵀ copies the parent's ε once.
   EXPECT_LT(fn::constraints(qb_n).lpNorm<Eigen::Infinity>(), 3e-10);
+}
+
+// The child's increment over a step (StepIncrement, from which the step's velocities come): the
+// update less the start, and the same 10⁶ m from the origin, where the difference of the rounded
+// coordinates is off by ~10⁻¹⁰ (docs/theory/schemes.md §7). The sliding joints' rₙ = x_B − x_A
+// is itself a difference of coordinates; it enters multiplied by Q_A − I (~0.02 here).
+TEST_P(FrameJointTest, IncrementIsTheUpdateLessTheStartWithoutCancellation) {
+  std::mt19937 g(90 + GetParam());
+  const auto s = make_setup(kKinds[GetParam()], g);
+  expect_increments_without_cancellation(s.joint, s.qa0, s.qb0, false, 1e-11, g);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllKinds, FrameJointTest, ::testing::Range(0, 8));

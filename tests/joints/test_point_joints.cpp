@@ -12,6 +12,7 @@
 #include "isoflex/math/rotation.hpp"
 #include "isoflex/math/skew.hpp"
 #include "support/finite_difference.hpp"
+#include "support/joint_increments.hpp"
 
 using namespace isoflex;
 using namespace isoflex::test;
@@ -231,6 +232,17 @@ TEST(PointOnFrame, UpdateKeepsConstraints) {
     }
   }
   record("max_rel_phi_n1", worst);
+}
+
+// The point's increment over a step (StepIncrement, from which the step's velocities come): the
+// update less the start, and the same 10⁶ m from the origin, where the difference of the rounded
+// coordinates is off by ~10⁻¹⁰ (docs/theory/schemes.md §7).
+TEST(PointOnFrame, IncrementIsTheUpdateLessTheStartWithoutCancellation) {
+  std::mt19937 g(245);
+  for (int k = 0; k < 3; ++k) {
+    const Case c = make_case(g);
+    expect_increments_without_cancellation(c.joint, c.qa0, c.qb0, false, 1e-15, g);
+  }
 }
 
 // The update map's derivative is the velocity analysis at t_{n+1}: with q_A,n+1 = F(q_A,n, u),

@@ -473,7 +473,7 @@ const VecX& ReducedNewtonMatrix::evaluate(const VecX& qn, const VecX& vn, const 
   // Every vector is a kept workspace: an iteration allocates nothing.
   const int N = sys_.node_count();
   VecX &q1 = q1_, &qm = qm_, &v1 = v1_, &r0 = r0_;
-  sys_.update(qn, u, q1, steps_, &dq_);  // (14), (37)
+  sys_.update(qn, u, q1, steps_, &dq_, &step_increments_);  // (14), (37)
   q1_qn_ = qn;
   q1_u_ = u;
   qm = 0.5 * (qn + q1);

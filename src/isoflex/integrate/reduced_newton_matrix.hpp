@@ -154,7 +154,7 @@ class ReducedNewtonMatrix {
   mutable MatX Ke_;
   mutable VecX a_, b_, l_, f_, element_dv_, q1_, dq_, qm_, v1_, dv_, r0_, R_, y_, rhs_, lambda_, x_,
       check_;
-  mutable std::vector<Mat3> steps_;
+  mutable std::vector<Mat3> steps_, step_increments_;
   mutable std::vector<double> tangent_;
   mutable std::vector<Mat3> T_;
   mutable system::SpMat G_, GGt_;

@@ -169,13 +169,23 @@ FreedomBlock ShellIntersection::freedom_block(CRef qa, CRef) const {
 }
 
 NodeVec ShellIntersection::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                                  Mat3* step_b) const {
+                                  Mat3* step_b, const StepIncrement* parent,
+                                  StepIncrement* child) const {
   assert(tau.size() == 1);
   // B turns with A's full step rotation Q_A (drilling about d_A included: it turns d_B) and then
   // by τ about d_A,n+1. With d_A,n+1 = Q_A d_A,n, d_A·d_B keeps its value η:
   // d_A,n+1·exp(τ d̂_A,n+1) Q_A d_B,n = d_A,n+1·Q_A d_B,n = d_A,n·d_B,n. The point row is reset.
-  const Mat3 R = rodrigues(tau(0) * director(qa_n1)) * step_a;
+  Mat3 A;
+  const Mat3 R =
+      (child ? rodrigues(tau(0) * director(qa_n1), A) : rodrigues(tau(0) * director(qa_n1))) *
+      step_a;
   if (step_b) *step_b = R;
+  if (child) {  // (Δφ_A, (R − I) d_B,n)
+    child->dQ = compose_increments(A, parent->dQ);
+    dn::Q dq;
+    dq << parent->dq.head<3>(), child->dQ * director(qb_n);
+    child->dq = dq;
+  }
   dn::Q qb;
   qb << qa_n1.head<3>(), R * director(qb_n);
   return qb;
@@ -226,13 +236,20 @@ FreedomBlock DirectorOnFrame::freedom_block(CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 
-NodeVec DirectorOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
-                                Mat3* step_b) const {
+NodeVec DirectorOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau, Mat3* step_b,
+                                const StepIncrement* parent, StepIncrement* child) const {
   assert(tau.size() == 0);
   (void)tau;
   // From A's configuration at t_{n+1} directly (not Q_A d_B,n): no round-off drift of the rows.
   // The derivative w.r.t. A's motion δφ, δQ_A = δω̂ Q_A is δφ + δω × ρ_A, δω × d_B: the block A.
   if (step_b) *step_b = step_a;
+  if (child) {  // (Δφ_A + ΔR_A X_A, ΔR_A D), ΔR_A the parent's director increments
+    const Mat3 dRa = Eigen::Map<const Mat3>(parent->dq.data() + 3);
+    dn::Q dq;
+    dq << parent->dq.head<3>() + dRa * X_A_, dRa * D_;
+    child->dq = dq;
+    child->dQ = parent->dQ;
+  }
   const fn::Q qa = qa_n1;
   dn::Q qb;
   qb << fn::phi(qa) + body_vector(qa, X_A_), body_vector(qa, D_);
@@ -285,12 +302,21 @@ FreedomBlock FrameOnDirector::freedom_block(CRef qa, CRef qb) const {
 }
 
 NodeVec FrameOnDirector::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                                Mat3* step_b) const {
+                                Mat3* step_b, const StepIncrement* parent,
+                                StepIncrement* child) const {
   assert(tau.size() == 1);
   // As for the intersection: R_B,n+1 = exp(τ d̂_A,n+1) Q_A R_B,n keeps (R_B e)·d_A at its value
   // (Q_A d_A,n = d_A,n+1), and B's material point is put back on the node.
-  const Mat3 R = rodrigues(tau(0) * director(qa_n1)) * step_a;
+  Mat3 A;
+  const Mat3 R =
+      (child ? rodrigues(tau(0) * director(qa_n1), A) : rodrigues(tau(0) * director(qa_n1))) *
+      step_a;
   if (step_b) *step_b = R;
+  if (child) {  // (Δφ_A − ΔR_B X_B, ΔR_B), ΔR_B = (R − I) R_B,n
+    child->dQ = compose_increments(A, parent->dQ);
+    const Mat3 dRb = child->dQ * fn::directors(qb_n);
+    child->dq = fn::make(parent->dq.head<3>() - dRb * X_B_, dRb);
+  }
   const Mat3 Rb = R * fn::directors(qb_n);
   return fn::make(qa_n1.head<3>() - Rb * X_B_, Rb);
 }
@@ -398,24 +424,43 @@ Vec<5> DirectorSupport::root_increment(CRef tau) const {
   return u;
 }
 
-NodeVec DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Mat3* step_b) const {
+NodeVec DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Mat3* step_b,
+                                const StepIncrement*, StepIncrement* child) const {
   assert(tau.size() == freedom_count());
-  // φ_B,n+1 = φ_B,n + Σ τ_i e_i leaves the fixed components untouched (bit for bit).
+  // φ_B,n+1 = φ_B,n + Σ τ_i e_i leaves the fixed components untouched (bit for bit). The parent
+  // is the ground: the increments are the support's own.
   const Vec<5> u = root_increment(tau);
   const dn::Q qn = qb_n;
+  dn::Q dq;
   switch (spec_.director) {
-    case DirectorCondition::free:  // the free node's map (53)–(54) with the basis at t_n
-      return dn::root_update(qn, u, step_b);
+    case DirectorCondition::free: {  // the free node's map (53)–(54) with the basis at t_n
+      if (!child) return dn::root_update(qn, u, step_b);
+      const dn::Q q = dn::root_update(qn, u, step_b, &dq, &child->dQ);
+      child->dq = dq;
+      return q;
+    }
     case DirectorCondition::fixed: {
       if (step_b) *step_b = Mat3::Identity();
+      if (child) {
+        dq << u.head<3>(), Vec3::Zero();
+        child->dq = dq;
+        child->dQ.setZero();
+      }
       dn::Q q;
       q << qn.head<3>() + u.head<3>(), d0_;  // exact: no round-off drift
       return q;
     }
     case DirectorCondition::about_axis: {
       // exp(τ n̂) keeps d·n.
-      const Mat3 R = rodrigues(tau(free_count_) * spec_.axis);
+      Mat3 A;
+      const Mat3 R = child ? rodrigues(tau(free_count_) * spec_.axis, A)
+                           : rodrigues(tau(free_count_) * spec_.axis);
       if (step_b) *step_b = R;
+      if (child) {
+        dq << u.head<3>(), A * qn.tail<3>();
+        child->dq = dq;
+        child->dQ = A;
+      }
       dn::Q q;
       q << qn.head<3>() + u.head<3>(), R * qn.tail<3>();
       return q;

@@ -77,8 +77,9 @@ class ShellIntersection final : public Joint {
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
   FreedomBlock freedom_block(CRef qa, CRef qb) const override;
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
@@ -103,8 +104,9 @@ class DirectorOnFrame final : public Joint {
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
   FreedomBlock freedom_block(CRef qa, CRef qb) const override;
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
@@ -129,8 +131,9 @@ class FrameOnDirector final : public Joint {
   void add_constraint_hessian(CRef lambda, MatX& H) const override;
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
   FreedomBlock freedom_block(CRef qa, CRef qb) const override;
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
@@ -171,8 +174,9 @@ class DirectorSupport final : public Joint {
   // Zero: the rows are fixed in space (the ground does not move).
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
   FreedomBlock freedom_block(CRef qa, CRef qb) const override;
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:

@@ -251,42 +251,63 @@ FrameJoint::Q FrameJoint::update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, 
 }
 
 FrameJoint::Q FrameJoint::fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n,
-                                       CRef tau, Mat3* step_b) const {
+                                       CRef tau, Mat3* step_b, const StepIncrement* parent,
+                                       StepIncrement* child) const {
   assert(tau.size() == r_);
+  assert(!child || parent);
   const FrameVectors vn = vectors(qa_n, qb_n);
   const Mat3 Rb_n = fn::directors(qb_n);
   // The child turns by the product of exact rotations, never by R_A,n+1 R_A,nᵀ: that carries the
   // parent's orthonormality round-off (20) into the child at every step, and a chain's directors
   // then drift linearly with the step count (10⁻¹¹ in 3000 steps of Andrews' squeezer).
-  Mat3 step;
+  // With `child`, each rotation's increment (exp − I) comes from the same factors.
+  Mat3 step, dstep, A1, A2;
+  const auto turn = [&](const Vec3& theta, Mat3& A) {
+    return child ? rodrigues(theta, A) : rodrigues(theta);
+  };
   int k = 0;
   if (absolute_rotation(kind_)) {
-    step = rodrigues(tau.head<3>());
+    step = turn(tau.head<3>(), dstep);
     k = 3;
   } else if (kind_ == Kind::universal) {
     const Vec3 a1 = body_vector(qa_n1, g_.C_A.col(0));
     const Vec3 b2 = vn.b.col(1);
-    step = rodrigues(tau(0) * a1) * QA * rodrigues(tau(1) * b2);
+    step = turn(tau(0) * a1, A1) * QA * turn(tau(1) * b2, A2);
+    if (child) dstep = compose_increments(compose_increments(A1, parent->dQ), A2);
     k = 2;
   } else if (kind_ == Kind::revolute || kind_ == Kind::cylindrical || kind_ == Kind::planar) {
     const Vec3 a3 = body_vector(qa_n1, g_.C_A.col(2));
-    step = rodrigues(tau(0) * a3) * QA;
+    step = turn(tau(0) * a3, A1) * QA;
+    if (child) dstep = compose_increments(A1, parent->dQ);
     k = 1;
   } else {
     step = QA;
+    if (child) dstep = parent->dQ;
   }
   // Rotation locked: R_B = R_A C_A C_Bᵀ (the joint frames coincide) rather than Q_A R_B,n, so
   // that the round-off of the orthonormality (20) does not accumulate step after step.
-  const Mat3 Rb =
-      k > 0 ? Mat3(step * Rb_n) : Mat3(fn::directors(qa_n1) * (g_.C_A * g_.C_B.transpose()));
+  const Mat3 C = g_.C_A * g_.C_B.transpose();
+  const Mat3 Rb = k > 0 ? Mat3(step * Rb_n) : Mat3(fn::directors(qa_n1) * C);
   if (step_b) *step_b = step;
   Mat3 a_n1;
   for (int i = 0; i < 3; ++i) a_n1.col(i) = body_vector(qa_n1, g_.C_A.col(i));
   Vec3 x_b = fn::phi(qa_n1) + body_vector(qa_n1, g_.X_A);
   if (slides_) x_b += QA * vn.r;
   const Directions slides = translation_directions(a_n1);
+  const int k_rotation = k;
   for (int c = 0; c < slides.cols(); ++c) x_b += tau(k++) * slides.col(c);
   assert(k == r_);
+  if (child) {
+    // The same terms less those at tₙ: Δφ_A + ΔR_A X_A (+ (Q_A − I) rₙ) + Σ τ s − ΔR_B X_B, with
+    // ΔR_A the parent's director increments and ΔR_B = (Q_B − I) R_B,n (ΔR_A C when locked).
+    const Mat3 dRa = Eigen::Map<const Mat3>(parent->dq.data() + 3);
+    const Mat3 dRb = k_rotation > 0 ? Mat3(dstep * Rb_n) : Mat3(dRa * C);
+    Vec3 dx = parent->dq.head<3>() + dRa * g_.X_A;
+    if (slides_) dx += parent->dQ * vn.r;
+    for (int c = 0; c < slides.cols(); ++c) dx += tau(k_rotation + c) * slides.col(c);
+    child->dq = fn::make(dx - dRb * g_.X_B, dRb);
+    child->dQ = dstep;
+  }
   return fn::make(x_b - Rb * g_.X_B, Rb);
 }
 
@@ -297,8 +318,8 @@ void FrameJoint::add_constraint_hessian(CRef lambda, MatX& H) const {
 }
 
 NodeVec FrameJoint::update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                           Mat3* step_b) const {
-  return fixed_update(Q(qa_n), Q(qa_n1), step_a, Q(qb_n), tau, step_b);
+                           Mat3* step_b, const StepIncrement* parent, StepIncrement* child) const {
+  return fixed_update(Q(qa_n), Q(qa_n1), step_a, Q(qb_n), tau, step_b, parent, child);
 }
 
 FreedomBlock FrameJoint::update_freedom_block(CRef qa_n1, CRef, CRef qb_n1, CRef tau) const {

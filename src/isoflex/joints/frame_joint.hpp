@@ -72,8 +72,9 @@ class FrameJoint final : public Joint {
   // (Q_A R_A,n = R_A,n+1); `step_b` receives the child's.
   Q update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n, const VecX& tau,
            Mat3* step_b = nullptr) const;
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1, CRef tau) const override;
 
  private:
@@ -83,7 +84,8 @@ class FrameJoint final : public Joint {
   };
   FrameVectors vectors(const Q& qa, const Q& qb) const;
   Q fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3& QA, const Q& qb_n, CRef tau,
-                 Mat3* step_b) const;  // update() without copying τ
+                 Mat3* step_b, const StepIncrement* parent = nullptr,
+                 StepIncrement* child = nullptr) const;  // update() without copying τ
   Directions translation_directions(const Mat3& a) const;
 
   Kind kind_;

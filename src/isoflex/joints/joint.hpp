@@ -28,6 +28,16 @@ using isoflex::NodeKind;
 // fixed maximum sizes, so that the tree sweeps of every Newton iteration allocate nothing.
 using FreedomBlock = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
+// A node's motion over a step, formed without subtracting rounded coordinates: the increment
+// q_{n+1} − qₙ and its rotation over the step less the identity, Q − I. The step's velocities
+// come from the increments, so that their round-off scales with the increments, not with the
+// node's distance from the origin (docs/theory/schemes.md §7); a free node's are
+// NodeType::root_update's, a child's its joint's update from its parent's.
+struct StepIncrement {
+  NodeVec dq;
+  Mat3 dQ = Mat3::Zero();
+};
+
 class Joint {
  public:
   using CRef = Eigen::Ref<const VecX>;
@@ -51,9 +61,15 @@ class Joint {
   // Update map: the child at t_{n+1} from the parent at t_n and t_{n+1}, the parent's rotation
   // over the step Q_A (Q_A R_A,n = R_A,n+1 for a frame node; the rotation the tree applied to a
   // director node, drilling included), the child at t_n and the increments τ. `step_b` receives
-  // the child's rotation over the step, for the joints below it.
+  // the child's rotation over the step, for the joints below it. With `parent` (the parent's
+  // StepIncrement), `child` receives the child's, composed from the parent's and the joint's own
+  // rotations' increments (the same terms as the update, less those of the step's start).
   virtual NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                         Mat3* step_b) const = 0;
+                         Mat3* step_b, const StepIncrement* parent, StepIncrement* child) const = 0;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
+                 Mat3* step_b) const {
+    return update(qa_n, qa_n1, step_a, qb_n, tau, step_b, nullptr, nullptr);
+  }
   // ∂t_B/∂τ of the update map at (q_A,n+1, q_B,n+1), 6 × r: freedom_block at t_{n+1} with
   // rotation-vector columns multiplied by T(θ) (DNSM-III (37)) and director tangent bases taken
   // at t_n.

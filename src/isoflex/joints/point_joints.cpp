@@ -64,13 +64,17 @@ FreedomBlock PointOnFrame::freedom_block(CRef, CRef) const {
   return MatX::Zero(6, 0);
 }
 
-NodeVec PointOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau,
-                             Mat3* step_b) const {
+NodeVec PointOnFrame::update(CRef, CRef qa_n1, const Mat3& step_a, CRef, CRef tau, Mat3* step_b,
+                             const StepIncrement* parent, StepIncrement* child) const {
   assert(tau.size() == 0);
   (void)tau;
   // From A at t_{n+1} directly: the rows hold to round-off and do not drift. The derivative
   // w.r.t. A's motion δφ_A, δd_I = δω × d_I is δφ_A + δω × ρ_A: the block A at t_{n+1}.
   if (step_b) *step_b = step_a;
+  if (child) {  // Δφ_A + ΔR_A X, ΔR_A the parent's director increments
+    child->dq = parent->dq.head<3>() + Eigen::Map<const Mat3>(parent->dq.data() + 3) * X_;
+    child->dQ = parent->dQ;
+  }
   const Vec3 phi = qa_n1.head<3>() + arm(qa_n1, X_);
   return phi;
 }

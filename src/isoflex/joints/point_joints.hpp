@@ -32,8 +32,9 @@ class PointOnFrame final : public Joint {
   void add_constraint_hessian(CRef lambda, MatX& H) const override;  // adds nothing (linear rows)
   Mat<6, 6> parent_block(CRef qa, CRef qb) const override;
   FreedomBlock freedom_block(CRef qa, CRef qb) const override;  // 6 × 0
-  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau,
-                 Mat3* step_b) const override;
+  using Joint::update;
+  NodeVec update(CRef qa_n, CRef qa_n1, const Mat3& step_a, CRef qb_n, CRef tau, Mat3* step_b,
+                 const StepIncrement* parent, StepIncrement* child) const override;
   FreedomBlock update_freedom_block(CRef qa_n1, CRef qb_n, CRef qb_n1,
                                     CRef tau) const override;  // 6 × 0
 

@@ -33,8 +33,10 @@ Mat<6, 6> twist_null_space(const Q& q);
 Mat<6, 5> root_block(const Q& q);
 // The reparametrization (53)–(54) of a free node with the basis tangent_basis(dₙ): the director
 // turns by θ = u₄ d₂ − u₅ d₁ (⊥ dₙ, so exp(θ̂) dₙ = exp_{dₙ}(D θ)); `step` receives exp(θ̂).
-// increment: q − qn without subtracting rounded coordinates (NodeType::root_update).
-Q root_update(const Q& qn, const Vec<5>& u, Mat3* step, Q* increment = nullptr);
+// increment: q − qn, step_increment: exp(θ̂) − I, both without subtracting rounded coordinates
+// (NodeType::root_update).
+Q root_update(const Q& qn, const Vec<5>& u, Mat3* step, Q* increment = nullptr,
+              Mat3* step_increment = nullptr);
 // The rotation increments u of a step from qn (in the axes of dₙ) in the axes of d₁ = the
 // director after it: the rotation vector θ = [d₂ −d₁]ₙ u is normal to both dₙ and d₁, so its
 // coordinates in the axes at d₁ are [d₂ −d₁]₁ᵀ θ, exactly. The tangent basis is not transported

@@ -34,8 +34,7 @@ class FrameNodeType final : public NodeType {
     return fn::null_space(q).transpose() * fn::Q(r);
   }
   NodeVec free_force(CRef, const Vec<6>& y) const override { return y; }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
-    Mat3 A;
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment, Mat3& A) const override {
     step = rodrigues(u.segment<3>(3), A);
     increment.resize(fn::kCoords);
     increment.head<3>() = u.head<3>();
@@ -90,9 +89,10 @@ class DirectorNodeType final : public NodeType {
   NodeVec free_force(CRef q, const Vec<6>& y) const override {
     return dn::root_block(q).transpose() * y;
   }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment,
+                      Mat3& step_increment) const override {
     dn::Q dq;
-    const dn::Q q = dn::root_update(qn, u, &step, &dq);
+    const dn::Q q = dn::root_update(qn, u, &step, &dq, &step_increment);
     increment = dq;
     return q;
   }
@@ -151,8 +151,10 @@ class PointNodeType final : public NodeType {
     return y;
   }
   NodeVec free_force(CRef, const Vec<6>& y) const override { return y.head<3>(); }
-  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const override {
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment,
+                      Mat3& step_increment) const override {
     step.setIdentity();
+    step_increment.setZero();
     increment = u.head<3>();
     return pn::update(qn, u);
   }

@@ -60,7 +60,14 @@ class NodeType {
   // itself, a rotated vector's (exp(θ̂) − I) v from the update's own factors. The step's
   // velocities come from it, so that their round-off scales with the increments, not with the
   // node's distance from the origin (the momenta's drift, docs/theory/schemes.md §7).
-  virtual NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const = 0;
+  // step_increment: the step's rotation less the identity, from the same factors (what the
+  // joints below the node compose their children's increments from).
+  virtual NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment,
+                              Mat3& step_increment) const = 0;
+  NodeVec root_update(CRef qn, CRef u, Mat3& step, NodeVec& increment) const {
+    Mat3 step_increment;
+    return root_update(qn, u, step, increment, step_increment);
+  }
   NodeVec root_update(CRef qn, CRef u, Mat3& step) const {
     NodeVec increment;
     return root_update(qn, u, step, increment);

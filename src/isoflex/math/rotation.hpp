@@ -11,6 +11,12 @@ Mat3 rodrigues(const Vec3& theta);
 // increment without subtracting rounded vectors (the velocities of a step, NodeType::root_update).
 Mat3 rodrigues(const Vec3& theta, Mat3& minus_identity);
 
+// The increment of a product of two rotations from theirs: (I + A)(I + B) − I = A + B + AB, as
+// accurate as A and B (no identity subtracted; the joints' step rotations, joints/joint.hpp).
+inline Mat3 compose_increments(const Mat3& A, const Mat3& B) {
+  return A + B + A * B;
+}
+
 // Left tangent operator T(θ): δ(exp(θ̂) v) = (T(θ) δθ) × (exp(θ̂) v).
 // T = I + (1 − cos|θ|)/|θ|² θ̂ + (|θ| − sin|θ|)/|θ|³ θ̂².
 Mat3 rodrigues_tangent(const Vec3& theta);

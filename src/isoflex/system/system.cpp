@@ -653,29 +653,47 @@ VecX System::update(const VecX& qn, const VecX& u) const {
 }
 
 void System::update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step,
-                    VecX* increment) const {
+                    VecX* increment, std::vector<Mat3>* step_increment) const {
   q = qn;
-  if (increment) increment->setZero(qn.size());
+  const auto N = static_cast<std::size_t>(node_count());
   // Rotation of every node over the step (joints/joint.hpp): what the joints below it apply.
-  step.assign(static_cast<std::size_t>(node_count()), Mat3::Identity());
+  step.assign(N, Mat3::Identity());
+  std::vector<Mat3> local;
+  std::vector<Mat3>& dQ = step_increment ? *step_increment : local;
+  if (increment) {
+    increment->setZero(qn.size());
+    dQ.assign(N, Mat3::Zero());
+  }
   NodeVec dq;
+  Mat3 dQ_root;
   for (std::size_t r = 0; r < roots_.size(); ++r) {
     const int i = roots_[r];
     const auto ui = u.segment(root_nu_offset_[r], root_width_[r]);
     const int at = nodes_[i].q_offset, size = coordinate_count(i);
-    q.segment(at, size) = node_type(i).root_update(node_q(qn, i), ui, step[i], dq);
+    q.segment(at, size) =
+        node_type(i).root_update(node_q(qn, i), ui, step[i], dq, increment ? dQ[i] : dQ_root);
     if (increment) increment->segment(at, size) = dq;
   }
   const Mat3 ground_step = Mat3::Identity();
+  joints::StepIncrement parent, child;  // fixed-size: no heap allocation
   for (int j : tree_order_) {
     const auto& J = joints_[j];
     const int c = J.child;
+    if (increment) {
+      // The ground (a frame node) does not move.
+      parent.dq =
+          J.parent >= 0
+              ? NodeVec(increment->segment(nodes_[J.parent].q_offset, coordinate_count(J.parent)))
+              : NodeVec(NodeVec::Zero(fn::kCoords));
+      parent.dQ = J.parent >= 0 ? dQ[static_cast<std::size_t>(J.parent)] : Mat3::Zero();
+    }
     q.segment(nodes_[c].q_offset, coordinate_count(c)) = J.joint->update(
         node_q(qn, J.parent), node_q(q, J.parent), J.parent >= 0 ? step[J.parent] : ground_step,
-        node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c]);
+        node_q(qn, c), u.segment(J.nu_offset, J.joint->freedom_count()), &step[c],
+        increment ? &parent : nullptr, increment ? &child : nullptr);
     if (increment) {
-      const int at = nodes_[c].q_offset, size = coordinate_count(c);
-      increment->segment(at, size) = q.segment(at, size) - qn.segment(at, size);
+      increment->segment(nodes_[c].q_offset, coordinate_count(c)) = child.dq;
+      dQ[static_cast<std::size_t>(c)] = child.dQ;
     }
   }
 }

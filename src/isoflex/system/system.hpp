@@ -316,11 +316,13 @@ class System {
   VecX update(const VecX& qn, const VecX& u) const;
   // The same into q, with `step` (the nodes' rotations over the step) as workspace: no heap
   // allocation once both have their sizes (a Newton iteration).
-  // With `increment`, also q − qn: the free nodes' parts without subtracting rounded coordinates
-  // (NodeType::root_update), the nodes below joints by the difference. The step's velocities
-  // come from it (integrate/energy_momentum.cpp).
+  // With `increment`, also q − qn without subtracting rounded coordinates: the free nodes' parts
+  // from NodeType::root_update, those of the nodes below joints composed down the tree from their
+  // parents' (Joint::update with a StepIncrement). The step's velocities come from it
+  // (integrate/energy_momentum.cpp). `step_increment`: workspace for the nodes' rotations over
+  // the step less the identity (a local vector if null).
   void update(const VecX& qn, const VecX& u, VecX& q, std::vector<Mat3>& step,
-              VecX* increment = nullptr) const;
+              VecX* increment = nullptr, std::vector<Mat3>* step_increment = nullptr) const;
   // The tree coordinates ν that are rotations, for the trust region of a reparametrized Newton
   // correction (integrate/energy_momentum.cpp): the rotation increments of free frames and
   // directors and the joint velocities that turn the child (a column of the freedom block with
