@@ -7,6 +7,7 @@
 # multiplier rows), the probe's displacement. Sequential; --max-memory 60G lets the estimate
 # pass. A fourth argument names another model of this directory with the same keys
 # (scordelis_lo_quarter.yaml: symmetry rows; scordelis_lo_two_patch.yaml: AF-BS coupling rows;
+# scordelis_lo_bending_strip.yaml: the two patches with a bending strip;
 # pinched_cylinder.yaml: the one-eighth pinched cylinder, symmetry rows, linear only).
 # The printed value is the displacement component of a probe: the model's line
 # `# measure: probe NAME COMPONENT` (pinched_cylinder.yaml: `ref z`, u_z under the load), else

@@ -12,6 +12,7 @@
 
 #include "isoflex/solve/krylov_backend.hpp"
 #include "isoflex/solve/petsc/upper_triangle.hpp"
+#include "isoflex/solve/smoother_blocks.hpp"
 
 static_assert(sizeof(PetscInt) == sizeof(int), "isoflex passes 32-bit index arrays to PETSc");
 static_assert(sizeof(PetscScalar) == sizeof(double), "isoflex needs PETSc's real double build");
@@ -448,7 +449,7 @@ class PetscKrylov final : public KrylovBackend {
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
     check(KSPSetType(ksp_, method_ == KrylovMethod::mumps ? KSPPREONLY : KSPCG), "KSPSetType");
-    set_preconditioner(pc, own_galerkin_);
+    set_preconditioner(pc, own_galerkin_, true);
     if (method_ != KrylovMethod::mumps)
       check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
     check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
@@ -456,7 +457,7 @@ class PetscKrylov final : public KrylovBackend {
 
   // The method's preconditioner of A (of Â in the saddle point). own_galerkin: the multigrid's
   // levels get their operators from set_level_operators.
-  void set_preconditioner(PC pc, bool own_galerkin = false) {
+  void set_preconditioner(PC pc, bool own_galerkin = false, bool finest_is_A = false) {
     switch (method_) {
       case KrylovMethod::cg_gamg:
         check(PCSetType(pc, PCGAMG), "PCSetType");
@@ -469,7 +470,7 @@ class PetscKrylov final : public KrylovBackend {
         check(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
         break;
       case KrylovMethod::cg_multigrid:
-        setup_multigrid(pc, own_galerkin);
+        setup_multigrid(pc, own_galerkin, finest_is_A);
         break;
       case KrylovMethod::mumps:
         check(PCSetType(pc, PCCHOLESKY), "PCSetType");
@@ -578,7 +579,7 @@ class PetscKrylov final : public KrylovBackend {
   // strips of control-point rows. With point smoothers (SOR) the CG iterations doubled with every
   // level on a thin shell; with these blocks they barely grow (docs/theory/solvers.md §4 has the
   // counts). PETSC_OPTIONS overrides any of it.
-  void setup_multigrid(PC pc, bool own_galerkin) {
+  void setup_multigrid(PC pc, bool own_galerkin, bool finest_is_A) {
     if (interpolations_.empty()) {
       // A model no larger than the coarsest level: that level's factorization is the solve.
       set_cholesky(pc);
@@ -605,6 +606,17 @@ class PetscKrylov final : public KrylovBackend {
       PC block = nullptr;
       check(KSPGetPC(smoother, &block), "KSPGetPC");
       check(PCSetType(block, PCBJACOBI), "PCSetType");
+      // The finest level of one process's A: no block border through a band of heavy coupling
+      // (smoother_blocks.hpp); elsewhere equal blocks.
+      const std::vector<int> lengths =
+          l == 1 && finest_is_A && !distributed_ && values_ && n == n_
+              ? smoother_blocks(CsrView{n_, 0, row_start_, columns_, values_}, kSmootherBlock)
+              : std::vector<int>();
+      if (!lengths.empty()) {
+        check(PCBJacobiSetTotalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
+              "PCBJacobiSetTotalBlocks");
+        continue;
+      }
       check(PCBJacobiSetTotalBlocks(block, std::max<PetscInt>(1, n / kSmootherBlock), nullptr),
             "PCBJacobiSetTotalBlocks");
     }
