@@ -4,7 +4,7 @@
 // stiff element that spans a band of unknowns (a bending strip, 1000 × the shell's modulus) cut
 // by a block border leaves its coupling to the other block, where the smoother cannot relax it:
 // on the two-patch roof with a bending strip the CG iterations jumped between 48 and 344 with the
-// block count alone (bench/large_shells.md, "Smoother blocks that do not cut a strip").
+// block count alone (bench/large_shells.md, "Smoother blocks that do not cut the strip").
 #include <algorithm>
 #include <cmath>
 #include <vector>

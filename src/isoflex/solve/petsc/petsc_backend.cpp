@@ -429,12 +429,38 @@ class PetscKrylov final : public KrylovBackend {
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
     const int count = static_cast<int>(coarse_.size());
-    for (int l = 1; l <= count; ++l) {
+    for (int l = 0; l <= count; ++l) {
       KSP smoother = nullptr;
       check(PCMGGetSmoother(pc, count - l, &smoother), "PCMGGetSmoother");
-      const Mat M = coarse_[static_cast<std::size_t>(l - 1)];
-      check(KSPSetOperators(smoother, M, M), "KSPSetOperators");
+      const Mat M = l == 0 ? A_ : coarse_[static_cast<std::size_t>(l - 1)];
+      if (l > 0) check(KSPSetOperators(smoother, M, M), "KSPSetOperators");
+      // Blocks of the smoothers (not of the coarsest level's factorization) once, before the
+      // first set-up.
+      if (reuse == MAT_INITIAL_MATRIX && l < count) set_smoother_blocks(smoother, M);
     }
+  }
+
+  // No block of a level's smoother ends inside a band of heavy coupling of its matrix
+  // (smoother_blocks.hpp): a bending strip cut by a block border is left unrelaxed. Where no
+  // equal block ends there, PETSc's equal blocks stay.
+  static void set_smoother_blocks(KSP smoother, Mat M) {
+    PetscInt n = 0;
+    const PetscInt *rows = nullptr, *columns = nullptr;
+    PetscBool done = PETSC_FALSE;
+    check(MatGetRowIJ(M, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done), "MatGetRowIJ");
+    if (!done) return;
+    const PetscScalar* values = nullptr;
+    check(MatSeqAIJGetArrayRead(M, &values), "MatSeqAIJGetArrayRead");
+    const std::vector<int> lengths =
+        smoother_blocks(CsrView{n, 0, rows, columns, values}, kSmootherBlock);
+    check(MatSeqAIJRestoreArrayRead(M, &values), "MatSeqAIJRestoreArrayRead");
+    check(MatRestoreRowIJ(M, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done),
+          "MatRestoreRowIJ");
+    if (lengths.empty()) return;
+    PC block = nullptr;
+    check(KSPGetPC(smoother, &block), "KSPGetPC");
+    check(PCBJacobiSetTotalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
+          "PCBJacobiSetTotalBlocks");
   }
 
   void drop_levels() {
@@ -449,7 +475,7 @@ class PetscKrylov final : public KrylovBackend {
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
     check(KSPSetType(ksp_, method_ == KrylovMethod::mumps ? KSPPREONLY : KSPCG), "KSPSetType");
-    set_preconditioner(pc, own_galerkin_, true);
+    set_preconditioner(pc, own_galerkin_);
     if (method_ != KrylovMethod::mumps)
       check(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
     check(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
@@ -457,7 +483,7 @@ class PetscKrylov final : public KrylovBackend {
 
   // The method's preconditioner of A (of Â in the saddle point). own_galerkin: the multigrid's
   // levels get their operators from set_level_operators.
-  void set_preconditioner(PC pc, bool own_galerkin = false, bool finest_is_A = false) {
+  void set_preconditioner(PC pc, bool own_galerkin = false) {
     switch (method_) {
       case KrylovMethod::cg_gamg:
         check(PCSetType(pc, PCGAMG), "PCSetType");
@@ -470,7 +496,7 @@ class PetscKrylov final : public KrylovBackend {
         check(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
         break;
       case KrylovMethod::cg_multigrid:
-        setup_multigrid(pc, own_galerkin, finest_is_A);
+        setup_multigrid(pc, own_galerkin);
         break;
       case KrylovMethod::mumps:
         check(PCSetType(pc, PCCHOLESKY), "PCSetType");
@@ -579,7 +605,7 @@ class PetscKrylov final : public KrylovBackend {
   // strips of control-point rows. With point smoothers (SOR) the CG iterations doubled with every
   // level on a thin shell; with these blocks they barely grow (docs/theory/solvers.md §4 has the
   // counts). PETSC_OPTIONS overrides any of it.
-  void setup_multigrid(PC pc, bool own_galerkin, bool finest_is_A) {
+  void setup_multigrid(PC pc, bool own_galerkin) {
     if (interpolations_.empty()) {
       // A model no larger than the coarsest level: that level's factorization is the solve.
       set_cholesky(pc);
@@ -606,17 +632,6 @@ class PetscKrylov final : public KrylovBackend {
       PC block = nullptr;
       check(KSPGetPC(smoother, &block), "KSPGetPC");
       check(PCSetType(block, PCBJACOBI), "PCSetType");
-      // The finest level of one process's A: no block border through a band of heavy coupling
-      // (smoother_blocks.hpp); elsewhere equal blocks.
-      const std::vector<int> lengths =
-          l == 1 && finest_is_A && !distributed_ && values_ && n == n_
-              ? smoother_blocks(CsrView{n_, 0, row_start_, columns_, values_}, kSmootherBlock)
-              : std::vector<int>();
-      if (!lengths.empty()) {
-        check(PCBJacobiSetTotalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
-              "PCBJacobiSetTotalBlocks");
-        continue;
-      }
       check(PCBJacobiSetTotalBlocks(block, std::max<PetscInt>(1, n / kSmootherBlock), nullptr),
             "PCBJacobiSetTotalBlocks");
     }
