@@ -176,9 +176,7 @@ NodeVec ShellIntersection::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_
   // by τ about d_A,n+1. With d_A,n+1 = Q_A d_A,n, d_A·d_B keeps its value η:
   // d_A,n+1·exp(τ d̂_A,n+1) Q_A d_B,n = d_A,n+1·Q_A d_B,n = d_A,n·d_B,n. The point row is reset.
   Mat3 A;
-  const Mat3 R =
-      (child ? rodrigues(tau(0) * director(qa_n1), A) : rodrigues(tau(0) * director(qa_n1))) *
-      step_a;
+  const Mat3 R = rodrigues(Vec3(tau(0) * director(qa_n1)), child ? &A : nullptr) * step_a;
   if (step_b) *step_b = R;
   if (child) {  // (Δφ_A, (R − I) d_B,n)
     child->dQ = compose_increments(A, parent->dQ);
@@ -308,9 +306,7 @@ NodeVec FrameOnDirector::update(CRef, CRef qa_n1, const Mat3& step_a, CRef qb_n,
   // As for the intersection: R_B,n+1 = exp(τ d̂_A,n+1) Q_A R_B,n keeps (R_B e)·d_A at its value
   // (Q_A d_A,n = d_A,n+1), and B's material point is put back on the node.
   Mat3 A;
-  const Mat3 R =
-      (child ? rodrigues(tau(0) * director(qa_n1), A) : rodrigues(tau(0) * director(qa_n1))) *
-      step_a;
+  const Mat3 R = rodrigues(Vec3(tau(0) * director(qa_n1)), child ? &A : nullptr) * step_a;
   if (step_b) *step_b = R;
   if (child) {  // (Δφ_A − ΔR_B X_B, ΔR_B), ΔR_B = (R − I) R_B,n
     child->dQ = compose_increments(A, parent->dQ);
@@ -453,8 +449,7 @@ NodeVec DirectorSupport::update(CRef, CRef, const Mat3&, CRef qb_n, CRef tau, Ma
     case DirectorCondition::about_axis: {
       // exp(τ n̂) keeps d·n.
       Mat3 A;
-      const Mat3 R = child ? rodrigues(tau(free_count_) * spec_.axis, A)
-                           : rodrigues(tau(free_count_) * spec_.axis);
+      const Mat3 R = rodrigues(Vec3(tau(free_count_) * spec_.axis), child ? &A : nullptr);
       if (step_b) *step_b = R;
       if (child) {
         dq << u.head<3>(), A * qn.tail<3>();

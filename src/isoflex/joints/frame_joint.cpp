@@ -42,7 +42,8 @@ Vec3 body_vector(const fn::Q& q, const Vec3& c) {
 }
 }  // namespace
 
-FrameJoint::FrameJoint(Kind kind, const FrameJointGeometry& g) : kind_(kind), g_(g) {
+FrameJoint::FrameJoint(Kind kind, const FrameJointGeometry& g)
+    : kind_(kind), g_(g), locked_(g.C_A * g.C_B.transpose()) {
   switch (kind) {
     case Kind::spherical:
       point_rows_ = true;
@@ -263,7 +264,7 @@ FrameJoint::Q FrameJoint::fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3
   // With `child`, each rotation's increment (exp − I) comes from the same factors.
   Mat3 step, dstep, A1, A2;
   const auto turn = [&](const Vec3& theta, Mat3& A) {
-    return child ? rodrigues(theta, A) : rodrigues(theta);
+    return rodrigues(theta, child ? &A : nullptr);
   };
   int k = 0;
   if (absolute_rotation(kind_)) {
@@ -286,7 +287,7 @@ FrameJoint::Q FrameJoint::fixed_update(const Q& qa_n, const Q& qa_n1, const Mat3
   }
   // Rotation locked: R_B = R_A C_A C_Bᵀ (the joint frames coincide) rather than Q_A R_B,n, so
   // that the round-off of the orthonormality (20) does not accumulate step after step.
-  const Mat3 C = g_.C_A * g_.C_B.transpose();
+  const Mat3& C = locked_;
   const Mat3 Rb = k > 0 ? Mat3(step * Rb_n) : Mat3(fn::directors(qa_n1) * C);
   if (step_b) *step_b = step;
   Mat3 a_n1;

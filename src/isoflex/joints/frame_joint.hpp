@@ -90,6 +90,7 @@ class FrameJoint final : public Joint {
 
   Kind kind_;
   FrameJointGeometry g_;
+  Mat3 locked_;  // C_A C_Bᵀ: R_B = R_A C_A C_Bᵀ where the rotation is locked
   int m_ = 0, r_ = 0, rotvec_ = -1;
   bool point_rows_ = false;                      // x_B − x_A = 0
   bool slides_ = false;                          // plane rows r·a_i (translation freedoms)

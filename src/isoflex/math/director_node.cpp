@@ -99,7 +99,7 @@ Mat<6, 5> root_block(const Q& q) {
 Q root_update(const Q& qn, const Vec<5>& u, Mat3* step, Q* increment, Mat3* step_increment) {
   const Vec3 theta = rotation_axes(qn.tail<3>()) * u.tail<2>();
   Mat3 A;
-  const Mat3 R = increment || step_increment ? rodrigues(theta, A) : rodrigues(theta);
+  const Mat3 R = rodrigues(theta, increment || step_increment ? &A : nullptr);
   if (step) *step = R;
   if (increment) *increment << u.head<3>(), A * qn.tail<3>();
   if (step_increment) *step_increment = A;

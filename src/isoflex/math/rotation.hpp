@@ -10,6 +10,11 @@ Mat3 rodrigues(const Vec3& theta);
 // the precision of its own entries (~|θ|), not of I: (exp(θ̂) − I) v is a rotated vector's
 // increment without subtracting rounded vectors (the velocities of a step, NodeType::root_update).
 Mat3 rodrigues(const Vec3& theta, Mat3& minus_identity);
+// The same where exp(θ̂) − I is wanted only if `minus_identity` is given (the rotation is the
+// same bit for bit either way).
+inline Mat3 rodrigues(const Vec3& theta, Mat3* minus_identity) {
+  return minus_identity ? rodrigues(theta, *minus_identity) : rodrigues(theta);
+}
 
 // The increment of a product of two rotations from theirs: (I + A)(I + B) − I = A + B + AB, as
 // accurate as A and B (no identity subtracted; the joints' step rotations, joints/joint.hpp).
