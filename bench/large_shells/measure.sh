@@ -13,6 +13,7 @@
 # `# measure: probe NAME COMPONENT` (pinched_cylinder.yaml: `ref z`, u_z under the load), else
 # `free_edge y` (the roofs' u_y at the midpoint of the free edge). The nonlinear variant scales
 # the roofs' self-weight (-90*t → -450*t); a model without it stops with a message.
+# SET="KEY=VALUE …" passes each as --set KEY=VALUE (e.g. SET=solver.multigrid_coarsening=degree).
 # RANKS=N (N > 1) runs each case on N MPI ranks (mpirun -n N --oversubscribe; docs/theory/
 # solvers.md §6): the process time is mpirun's, the peak memory the largest of the ranks' (each
 # rank under its own /usr/bin/time), and the rank column says N.
@@ -31,6 +32,8 @@ tag=$(basename "$model" .yaml)
 bin=${ISOFLEX:-$root/build/isoflex}
 work=${WORK:-$root/out/large_shells}
 ranks=${RANKS:-1}
+sets=()
+for kv in ${SET:-}; do sets+=(--set "$kv"); done
 read -r probe component < <(sed -n 's/^# measure: probe //p' "$here/$model"; echo free_edge y)
 if [[ $kind == nonlinear ]] && ! grep -q -- '-90\*t' "$here/$model"; then
   echo "measure.sh: $model has no self-weight -90*t to scale: linear only" >&2
@@ -53,11 +56,11 @@ for k in $sizes; do
       rm -f "$out".time.*
       /usr/bin/time -f "%e %M" -o "$out.time" env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
         mpirun --oversubscribe -n "$ranks" sh -c '/usr/bin/time -f "%e %M" -o "$0.time.$OMPI_COMM_WORLD_RANK" "$@"' \
-        "$out" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
+        "$out" "$bin" run --max-memory 60G "$f" -o "$out" "${sets[@]}" > "$out.log" 2>&1 || true
       read -r wall _ < "$out.time"
       kb=$(cat "$out".time.* | awk '$2 > m {m = $2} END {print m}')
     else
-      /usr/bin/time -f "%e %M" -o "$out.time" "$bin" run --max-memory 60G "$f" -o "$out" > "$out.log" 2>&1 || true
+      /usr/bin/time -f "%e %M" -o "$out.time" "$bin" run --max-memory 60G "$f" -o "$out" "${sets[@]}" > "$out.log" 2>&1 || true
       read -r wall kb < "$out.time"
     fi
     python3 - "$out/summary.json" "$k" "$s" "$kind" "$wall" "$kb" "$ranks" "$probe" "$component" <<'PY'

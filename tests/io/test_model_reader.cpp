@@ -351,7 +351,8 @@ TEST(ModelReader, UnknownKey) {
       "rho_infinity, numerical_dissipation, scaling, dt, t_end, residual_tolerance, "
       "increment_tolerance, max_iterations, max_rotation_correction, mixed_tangent, "
       "max_subdivisions, linear, initial_equilibrium, "
-      "path_following, cosimulation, saddle_point_solver, support_rows, linear_solver)");
+      "path_following, cosimulation, saddle_point_solver, support_rows, linear_solver, "
+      "multigrid_coarsening)");
   EXPECT_EQ(error_of(with_bodies({"gravitation: [0, 0, 0]"})),
             "m.yaml:6: gravitation: unknown key (valid keys: name, gravity, solver, output, "
             "bodies, beams, joints, loads, distributed_loads, probes, surfaces, shells, "
@@ -618,6 +619,20 @@ TEST(ModelReader, SolverLinearSolver) {
   EXPECT_EQ(error_of(with_bodies({"solver:", "  linear_solver: cg_multigrid"})),
             "m.yaml:7: solver.linear_solver: cg_multigrid coarsens the knot vectors of "
             "Kirchhoff–Love patches, and the model has none (cg_gamg is the algebraic multigrid)");
+}
+
+// The first coarse level of cg_multigrid (system/kl_multigrid.hpp Coarsening).
+TEST(ModelReader, SolverMultigridCoarsening) {
+  const auto read = [](const std::string& line) {
+    return read_model_string(with_bodies({"solver:", line}), "m.yaml").solver.multigrid_coarsening;
+  };
+  EXPECT_EQ(read_model_string(with_bodies({"joints:"}), "m.yaml").solver.multigrid_coarsening,
+            model::MultigridCoarsening::knots);
+  EXPECT_EQ(read("  multigrid_coarsening: knots"), model::MultigridCoarsening::knots);
+  EXPECT_EQ(read("  multigrid_coarsening: degree"), model::MultigridCoarsening::degree);
+  EXPECT_EQ(error_of(with_bodies({"solver:", "  multigrid_coarsening: p"})),
+            "m.yaml:7: solver.multigrid_coarsening: unknown coarsening \"p\" (valid: knots, "
+            "degree)");
 }
 
 TEST(ModelReader, SolverAndOutputValues) {

@@ -90,16 +90,26 @@ TEST(KLMultigrid, CoarseFunctionsAreFunctionsOfTheFinePatch) {
 namespace {
 
 // Patch k's own interpolation from its coarse control points at level `levels` (1: the first
-// coarse level) to its fine ones, one coordinate: the product of the knot insertions, divided by
-// the fine weights (kl_multigrid.hpp).
-MatX own_chain(const geometry::NurbsSurface& S, std::size_t levels) {
+// coarse level) to its fine ones, one coordinate: the product of the knot insertions (and with
+// `degree_then_knots` first the degree transfer where the degree is above 2), divided by the fine
+// weights (kl_multigrid.hpp).
+MatX own_chain(const geometry::NurbsSurface& S, std::size_t levels,
+               system::Coarsening coarsening = system::Coarsening::knots) {
   KnotVector fu = S.u, fv = S.v;
   MatX chain = MatX::Identity(S.n_u() * S.n_v(), S.n_u() * S.n_v());
+  const bool by_degree =
+      coarsening == system::Coarsening::degree_then_knots && (S.u.degree() > 2 || S.v.degree() > 2);
+  const auto lower = [](const KnotVector& kv, bool degree) {
+    if (degree) return kv.degree() > 2 ? *geometry::lower_degree(kv) : kv;
+    return geometry::coarsen(kv).value_or(kv);
+  };
+  const auto transfer = [](const KnotVector& c, const KnotVector& f) {
+    return MatX(c.degree() == f.degree() ? geometry::knot_insertion_matrix(c, f)
+                                         : geometry::degree_transfer_matrix(c, f));
+  };
   for (std::size_t l = 0; l < levels; ++l) {
-    const KnotVector cu = geometry::coarsen(fu).value_or(fu),
-                     cv = geometry::coarsen(fv).value_or(fv);
-    const MatX Au = MatX(geometry::knot_insertion_matrix(cu, fu)),
-               Av = MatX(geometry::knot_insertion_matrix(cv, fv));
+    const KnotVector cu = lower(fu, by_degree && l == 0), cv = lower(fv, by_degree && l == 0);
+    const MatX Au = transfer(cu, fu), Av = transfer(cv, fv);
     MatX A = MatX::Zero(Au.rows() * Av.rows(), Au.cols() * Av.cols());
     for (Eigen::Index j = 0; j < Av.rows(); ++j)
       for (Eigen::Index b = 0; b < Av.cols(); ++b)
@@ -118,11 +128,13 @@ MatX own_chain(const geometry::NurbsSurface& S, std::size_t levels) {
 // control points (an interface, a seam) the coarse points on both sides are one, so that the fine
 // field is continuous and in each patch's coarse space. Summing the rows of a shared point (or
 // taking them from one side with the coarse points left apart) leaves the field outside.
-void expect_coarse_fields_in_every_patch(const char* model, std::size_t patches) {
+void expect_coarse_fields_in_every_patch(
+    const char* model, std::size_t patches,
+    system::Coarsening coarsening = system::Coarsening::knots) {
   const model::Model m = io::read_model_string(model, "m.yaml");
   const system::System sys = system::System::compile(m);
   ASSERT_EQ(sys.kl_patches().size(), patches);
-  const std::vector<SpMat> transfers = system::kl_transfer_operators(sys, 0);
+  const std::vector<SpMat> transfers = system::kl_transfer_operators(sys, 0, coarsening);
   ASSERT_GE(transfers.size(), 2u);
   std::mt19937 g(5);
   std::uniform_real_distribution<double> u01(-0.5, 0.5);
@@ -133,7 +145,7 @@ void expect_coarse_fields_in_every_patch(const char* model, std::size_t patches)
     for (Eigen::Index i = 0; i < c.size(); ++i) c(i) = u01(g);
     const VecX x = chain * c;
     for (const system::KLPatchInstance& P : sys.kl_patches()) {
-      const MatX L = own_chain(P.element->patch().reference(), l + 1);
+      const MatX L = own_chain(P.element->patch().reference(), l + 1, coarsening);
       const auto qr = L.colPivHouseholderQr();
       for (int d = 0; d < 3; ++d) {
         VecX xk(static_cast<Eigen::Index>(P.nodes.size()));
@@ -147,11 +159,8 @@ void expect_coarse_fields_in_every_patch(const char* model, std::size_t patches)
   }
 }
 
-}  // namespace
-
-TEST(KLMultigrid, CoarseFieldsAcrossAnInterfaceAreCoarseFunctionsOfBothPatches) {
-  // Two flat patches sharing the edge x ∈ [0, 10] at a right angle (examples/kl_l_shaped_plate).
-  const char* kL = R"(
+// Two flat patches sharing the edge x ∈ [0, 10] at a right angle (examples/kl_l_shaped_plate).
+const char* kL = R"(
 solver: {analysis: static, dt: 1, t_end: 1, linear: true}
 surfaces:
   - name: flange
@@ -165,6 +174,10 @@ kl_shells:
   - {name: web, surface: web, material: {E: 1.2e6, nu: 0, thickness: 0.1}}
 kl_interfaces: {coupling: c0}
 )";
+
+}  // namespace
+
+TEST(KLMultigrid, CoarseFieldsAcrossAnInterfaceAreCoarseFunctionsOfBothPatches) {
   expect_coarse_fields_in_every_patch(kL, 2);
   // The shared edge's coarse points are counted once: 19 control points along it at the fine
   // level (3 + 16), 11 at the first coarse one (3 + 8).
@@ -187,4 +200,47 @@ kl_shells:
   - {name: ring, surface: ring, material: {E: 21.0e6, nu: 0, thickness: 0.03}}
 )",
                                       1);
+}
+
+// p-multigrid's first level (Coarsening::degree_then_knots): degree 3 → 2 on the same knots, then
+// fewer knots. The coarse points of the interface are one as at the other levels.
+TEST(KLMultigrid, DegreeLevelAcrossAnInterfaceIsCoarseFunctionsOfBothPatches) {
+  expect_coarse_fields_in_every_patch(kL, 2, system::Coarsening::degree_then_knots);
+  const system::System sys = system::System::compile(io::read_model_string(kL, "l.yaml"));
+  const std::vector<SpMat> transfers =
+      system::kl_transfer_operators(sys, 0, system::Coarsening::degree_then_knots);
+  ASSERT_GE(transfers.size(), 2u);
+  // One control point fewer per direction and patch: 18 along the shared edge.
+  EXPECT_EQ(transfers[0].cols(), 3 * (18 * 10 + 18 * 12 - 18));
+}
+
+// The lower-degree space of the roof is not inside the fine one, but its rigid motions are in the
+// first coarse space exactly: the cylinder sector's geometry is one piece of degree 2 (in u,
+// rational) and 1 (in v), and the transfer reproduces what both spaces hold (x = P₁ c solvable to
+// round-off for a translation and a rotation of the control points). A random fine field is not.
+TEST(KLMultigrid, DegreeLevelHoldsTheRigidMotionsOfTheRoof) {
+  const model::Model m = io::read_model_string(kRoof, "roof.yaml");
+  const system::System sys = system::System::compile(m);
+  const std::vector<SpMat> transfers =
+      system::kl_transfer_operators(sys, 0, system::Coarsening::degree_then_knots);
+  ASSERT_GE(transfers.size(), 2u);
+  const system::KLPatchInstance& P = sys.kl_patches()[0];
+  const int others = sys.n() - 3 * static_cast<int>(P.nodes.size());
+  EXPECT_EQ(transfers[0].cols(), others + 3 * 18 * 16);  // (16 + 2) × (14 + 2)
+  const MatX P1 = MatX(transfers[0]);
+  const auto qr = P1.colPivHouseholderQr();
+  const auto residual = [&](const VecX& x) { return (P1 * qr.solve(x) - x).norm() / x.norm(); };
+  const Vec3 t(0.3, -1.1, 0.7), w(0.2, 0.5, -0.4);
+  VecX translation = VecX::Zero(sys.n()), rotation = VecX::Zero(sys.n()), random(sys.n());
+  std::mt19937 g(7);
+  std::uniform_real_distribution<double> u01(-0.5, 0.5);
+  for (Eigen::Index i = 0; i < random.size(); ++i) random(i) = u01(g);
+  for (int node : P.nodes) {
+    translation.segment<3>(sys.q_offset(node)) = t;
+    rotation.segment<3>(sys.q_offset(node)) =
+        w.cross(Vec3(sys.q0().segment<3>(sys.q_offset(node))));
+  }
+  EXPECT_LT(residual(translation), 1e-12);
+  EXPECT_LT(residual(rotation), 1e-12);
+  EXPECT_GT(residual(random), 0.1);
 }

@@ -254,7 +254,8 @@ std::string why_not_distributed(const system::System& sys, const model::Solver& 
   return {};
 }
 
-StaticProblem static_problem(const system::System& sys, bool linear) {
+StaticProblem static_problem(const system::System& sys, bool linear,
+                             model::MultigridCoarsening coarsening) {
   const int n = sys.n(), m = sys.m_selected();
   const bool follower = has_follower_loads(sys);
   // Patches alone: the patch's own kinematics decides whether R is affine.
@@ -268,8 +269,20 @@ StaticProblem static_problem(const system::System& sys, bool linear) {
   for (int i = 0; i < sys.node_count(); ++i)
     if (sys.node_kind(i) == NodeKind::point) pb.points.push_back(sys.q_offset(i));
   const system::System* S = &sys;
-  if (!sys.kl_patches().empty())
-    pb.transfer_operators = [S] { return system::kl_transfer_operators(*S); };
+  if (!sys.kl_patches().empty()) {
+    for (const system::KLPatchInstance& P : sys.kl_patches()) {
+      const geometry::NurbsSurface& s = P.element->patch().reference();
+      pb.first_transfer_not_nested =
+          pb.first_transfer_not_nested || (coarsening == model::MultigridCoarsening::degree &&
+                                           (s.u.degree() > 2 || s.v.degree() > 2));
+    }
+    pb.transfer_operators = [S, coarsening] {
+      return system::kl_transfer_operators(*S, 3000,
+                                           coarsening == model::MultigridCoarsening::degree
+                                               ? system::Coarsening::degree_then_knots
+                                               : system::Coarsening::knots);
+    };
+  }
   auto selection = std::make_shared<RowSelection>();
   // Every load step starts from the last equilibrium: the elements keep their history from it
   // (System::accept), and rows reselected at every step are chosen there.
@@ -330,7 +343,7 @@ system::LinearConstraints over_unknowns(const system::System& sys) {
 StaticEquilibrium::StaticEquilibrium(const system::System& sys, const model::Solver& settings)
     : sys_(sys),
       linear_(settings.linear),
-      problem_(static_problem(sys, settings.linear)),
+      problem_(static_problem(sys, settings.linear, settings.multigrid_coarsening)),
       solver_(problem_, over_unknowns(sys), static_settings(settings, sys)) {}
 
 int StaticEquilibrium::unknowns() const {

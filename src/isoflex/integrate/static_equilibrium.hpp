@@ -52,7 +52,9 @@ std::string why_not_distributed(const system::System& sys, const model::Solver& 
 // over the ranks (each rank's elements; the loads counted once), J is each rank's own part
 // (StaticProblem::distributed). Throws std::invalid_argument if such a System cannot be
 // distributed (why_not_distributed with linear_solver auto).
-StaticProblem static_problem(const system::System& sys, bool linear);
+StaticProblem static_problem(
+    const system::System& sys, bool linear,
+    model::MultigridCoarsening coarsening = model::MultigridCoarsening::knots);
 
 class StaticEquilibrium {
  public:

@@ -622,8 +622,17 @@ struct StaticNewtonSolver::Impl {
     for (const Row& r : slave_rows(dofs))
       if (std::binary_search(reaction_slaves.begin(), reaction_slaves.end(), r.front().first))
         ties.push_back(r);
-    for (SpMat& Pl : P) {
+    for (std::size_t l = 0; l < P.size(); ++l) {
+      SpMat& Pl = P[l];
       const int n_coarse = static_cast<int>(Pl.cols());
+      // The held rows of a level that is not nested in the coarse one: neither free nor slaves.
+      std::vector<bool> held_row;
+      if (l == 0 && problem.first_transfer_not_nested) {
+        held_row.resize(static_cast<std::size_t>(Pl.rows()));
+        for (std::size_t i = 0; i < held_row.size(); ++i) held_row[i] = rows[i] < 0;
+        for (const auto& sl : dofs.slaves) held_row[static_cast<std::size_t>(sl.dof)] = false;
+      }
+      std::vector<bool> pinned(static_cast<std::size_t>(n_coarse), false);
       // The coarse coordinates that reach a free row, and C_l P_l row by row.
       std::vector<std::vector<std::pair<int, double>>> uses(static_cast<std::size_t>(Pl.rows()));
       for (std::size_t r = 0; r < ties.size(); ++r)
@@ -634,12 +643,15 @@ struct StaticNewtonSolver::Impl {
         for (SpMat::InnerIterator it(Pl, j); it; ++it) {
           if (rows[static_cast<std::size_t>(it.row())] >= 0)
             reaches[static_cast<std::size_t>(j)] = true;
+          else if (!held_row.empty() && held_row[static_cast<std::size_t>(it.row())])
+            pinned[static_cast<std::size_t>(j)] = true;
           for (const auto& [r, c] : uses[static_cast<std::size_t>(it.row())])
             coarse_ties[static_cast<std::size_t>(r)][j] += c * it.value();
         }
       std::vector<int> held;
       for (int j = 0; j < n_coarse; ++j)
-        if (!reaches[static_cast<std::size_t>(j)]) held.push_back(j);
+        if (!reaches[static_cast<std::size_t>(j)] || pinned[static_cast<std::size_t>(j)])
+          held.push_back(j);
       std::vector<Row> tied;
       for (const auto& t : coarse_ties) {
         Row r;

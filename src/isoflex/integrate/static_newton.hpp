@@ -92,6 +92,10 @@ struct StaticProblem {
   // The interpolations of geometric multigrid on x (system/kl_multigrid.hpp): P_1 (rows: the
   // entries of x), P_2, …; asked for by the cg_multigrid solver only.
   std::function<std::vector<SpMat>()> transfer_operators;
+  // P_1 interpolates from a space that is not inside the fine one (p-multigrid's lower degree,
+  // system/kl_multigrid.hpp Coarsening): a coarse coordinate that reaches a held row is held too
+  // (its function is not zero there; the rows left would not tell it from its neighbours).
+  bool first_transfer_not_nested = false;
   // The problem of one MPI rank among several (docs/theory/solvers.md §6): r is the whole
   // residual, the same on every rank, but K is this rank's part, and the Newton matrix is their
   // sum, which only the PETSc solvers form (solve/krylov_backend.hpp). No direct solver, no

@@ -222,7 +222,8 @@ class Reader : YamlFields {
                 "cosimulation",
                 "saddle_point_solver",
                 "support_rows",
-                "linear_solver"});
+                "linear_solver",
+                "multigrid_coarsening"});
     if (const auto v = n["analysis"]) {
       const std::string name = string(v, "solver.analysis");
       if (name != "static" && name != "dynamic")
@@ -317,6 +318,14 @@ class Reader : YamlFields {
       else if (name != "auto")
         fail(v, "solver.support_rows",
              "unknown choice \"" + name + "\" (valid: auto, multipliers)");
+    }
+    if (const auto v = n["multigrid_coarsening"]) {
+      const std::string name = string(v, "solver.multigrid_coarsening");
+      if (name == "degree")
+        s.multigrid_coarsening = model::MultigridCoarsening::degree;
+      else if (name != "knots")
+        fail(v, "solver.multigrid_coarsening",
+             "unknown coarsening \"" + name + "\" (valid: knots, degree)");
     }
     if (const auto v = n["path_following"]) read_path_following(v, s);
     if (const auto v = n["cosimulation"]) read_cosimulation(v, s);

@@ -481,6 +481,9 @@ enum class SaddlePointSolver { automatic, lu, augmented_lagrangian };
 // Static solves: how Newton matrices without multiplier rows are solved: CHOLMOD's Cholesky
 // (direct), or a PETSc solver (integrate/static_newton.hpp LinearSolverMethod; automatic: by size).
 enum class LinearSolver { automatic, direct, cg_gamg, cg_hypre, mumps, cg_multigrid };
+// Static solves with cg_multigrid: the first coarse level by fewer knots (h) or a lower degree
+// (p, then h; system/kl_multigrid.hpp Coarsening).
+enum class MultigridCoarsening { knots, degree };
 
 struct Solver {
   Analysis analysis = Analysis::dynamic;
@@ -514,9 +517,10 @@ struct Solver {
   // Dynamic runs: > 0 starts the run at rest in the static equilibrium under the loads at t = 0,
   // reached in this many load steps (integrate/initial_equilibrium.hpp); 0 starts from the model.
   int initial_equilibrium = 0;
-  SaddlePointSolver saddle_point_solver = SaddlePointSolver::automatic;  // static analyses only
-  LinearSolver linear_solver = LinearSolver::automatic;                  // static analyses only
-  PathFollowing path;                                                    // static analyses only
+  SaddlePointSolver saddle_point_solver = SaddlePointSolver::automatic;   // static analyses only
+  LinearSolver linear_solver = LinearSolver::automatic;                   // static analyses only
+  MultigridCoarsening multigrid_coarsening = MultigridCoarsening::knots;  // cg_multigrid only
+  PathFollowing path;                                                     // static analyses only
   std::optional<CoSimulation> cosimulation;  // dynamic analyses only; none: monolithic
   // Static analyses: the homogeneous rows of the Kirchhoff–Love supports (symmetry and clamp
   // slopes) tied where a PETSc solver takes the Newton matrix (false, `support_rows: auto`), or

@@ -40,7 +40,8 @@ bool same_column(const SharedColumn& a, const SharedColumn& b) {
 
 }  // namespace
 
-std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknowns) {
+std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknowns,
+                                         Coarsening coarsening) {
   const auto& patches = sys.kl_patches();
   std::vector<bool> on_patch(static_cast<std::size_t>(sys.n()), false);
   std::vector<PatchLevel> level;
@@ -66,13 +67,23 @@ std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknown
   while (n_fine > coarsest_unknowns) {
     std::vector<PatchLevel> coarse(level.size());
     bool any = false;
-    for (std::size_t k = 0; k < level.size(); ++k) {
-      const auto cu = geometry::coarsen(level[k].u), cv = geometry::coarsen(level[k].v);
-      any = any || cu || cv;
-      coarse[k].u = cu ? *cu : level[k].u;
-      coarse[k].v = cv ? *cv : level[k].v;
-    }
+    for (int pass = coarsening == Coarsening::degree_then_knots && out.empty() ? 0 : 1;
+         pass < 2 && !any; ++pass)
+      for (std::size_t k = 0; k < level.size(); ++k) {
+        const auto lower = [&](const geometry::KnotVector& kv) {
+          if (pass == 1) return geometry::coarsen(kv);
+          return kv.degree() > 2 ? geometry::lower_degree(kv) : std::nullopt;
+        };
+        const auto cu = lower(level[k].u), cv = lower(level[k].v);
+        any = any || cu || cv;
+        coarse[k].u = cu ? *cu : level[k].u;
+        coarse[k].v = cv ? *cv : level[k].v;
+      }
     if (!any) break;
+    const auto transfer = [](const geometry::KnotVector& c, const geometry::KnotVector& f) {
+      return c.degree() == f.degree() ? geometry::knot_insertion_matrix(c, f)
+                                      : geometry::degree_transfer_matrix(c, f);
+    };
     std::vector<int> uses(static_cast<std::size_t>(n_points), 0);
     for (const PatchLevel& L : level)
       for (int p : L.points) ++uses[static_cast<std::size_t>(p)];
@@ -83,8 +94,8 @@ std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknown
     };
     std::vector<std::vector<Entry>> entries(level.size());
     for (std::size_t k = 0; k < level.size(); ++k) {
-      const SpMat Au = geometry::knot_insertion_matrix(coarse[k].u, level[k].u);
-      const SpMat Av = geometry::knot_insertion_matrix(coarse[k].v, level[k].v);
+      const SpMat Au = transfer(coarse[k].u, level[k].u);
+      const SpMat Av = transfer(coarse[k].v, level[k].v);
       const int nu_f = level[k].u.n_basis(), nu_c = coarse[k].u.n_basis();
       const std::vector<double>& w = patches[k].element->patch().reference().weights;
       // Fine control point (i, j) from coarse (a, b): Au(i, a) Av(j, b), divided by w_ij at the

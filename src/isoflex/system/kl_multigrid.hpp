@@ -12,6 +12,14 @@ namespace isoflex::system {
 
 class System;
 
+// How the first coarse level is made: like the others, by removing knots (h-multigrid), or by
+// lowering the patches' degree by one where it is above 2 (p-multigrid; a Kirchhoff–Love patch
+// needs C¹ functions), with the knots of the lower degree's coarsenings below it. The lower-degree
+// space is not nested in the fine one: P_1 is then the local projection of
+// geometry::degree_transfer_matrix, exact for the patch's rigid motions where its geometry is
+// one polynomial piece of degree < p (docs/theory/solvers.md §4).
+enum class Coarsening { knots, degree_then_knots };
+
 // P_1 (n × n_1), P_2 (n_1 × n_2), …, the coarsest last: the fine coefficients from the coarse
 // ones, x_l = P_{l+1} x_{l+1}. Every coordinate of q that is not a control point of a patch
 // passes to each coarse level unchanged (first, in its order), then the coarse points (x, y, z
@@ -20,7 +28,7 @@ class System;
 // space is continuous where the fine one is; a fine point shared by several control points takes
 // its row from the first of them. Levels are added while the patches coarsen and the level has more
 // than `coarsest_unknowns` unknowns. Empty if no patch coarsens at all.
-std::vector<Eigen::SparseMatrix<double>> kl_transfer_operators(const System& sys,
-                                                               int coarsest_unknowns = 3000);
+std::vector<Eigen::SparseMatrix<double>> kl_transfer_operators(
+    const System& sys, int coarsest_unknowns = 3000, Coarsening coarsening = Coarsening::knots);
 
 }  // namespace isoflex::system
