@@ -243,12 +243,12 @@ TEST(ReducedNewtonMatrix, AGivenLambdaHatTakesThePlaceOfTheLeastSquares) {
   const VecX x = a.start_unknowns(s) + 1e-3 * VecX::Random(sys.k());
   system::SpMat J0, J1, J2;
   const VecX R0 = rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J0);
-  VecX q1;
+  VecX q1, dq;
   std::vector<Mat3> steps;
-  sys.update(s.q, x, q1, steps);
+  sys.update(s.q, x, q1, steps, &dq);
   VecX lambda;
   double mismatch = 0.0;
-  ASSERT_TRUE(rn.multipliers(s.q, s.v, q1, dt, t_mid, normal, lambda, mismatch));
+  ASSERT_TRUE(rn.multipliers(s.q, s.v, q1, dq, dt, t_mid, normal, lambda, mismatch));
   ASSERT_EQ(lambda.size(), sys.m_selected());
   const VecX R1 = rn.evaluate(s.q, s.v, x, dt, t_mid, normal, &J1, &lambda);
   EXPECT_LT(relative_difference(MatX(J0), MatX(J1)), 1e-10);

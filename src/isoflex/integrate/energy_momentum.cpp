@@ -576,7 +576,9 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
       // (docs/theory/schemes.md §7: a top with an arm on a universal joint). Such a root is
       // refused like a start that did not converge.
       double mismatch = 0.0;
-      lambda = step_multipliers(s, configuration(c, x), c.dt, c.t_mid, &mismatch);
+      VecX dq;
+      const VecX q1 = configuration(c, x, &dq);
+      lambda = step_multipliers(s, q1, dq, c.dt, c.t_mid, &mismatch);
       if (!(c.dt * mismatch <= std::max(1e3 * o.residual, 1e-8 * full_ref)))
         refused = fmt::format(
             "Newton converged to a root of the reduced equations that is no step of the scheme "
@@ -610,7 +612,7 @@ StepStats EnergyMomentumIntegrator::attempt(State& s, double dt) const {
   // The block path keeps them in any case: λ̂ of the next step's first Newton matrix
   // (ReducedNewtonMatrix::evaluate).
   if (reactions_ || drivers_ || (check && blocks_ && !fast))
-    s.lambda = check ? lambda : step_multipliers(s, q1, c.dt, c.t_mid);
+    s.lambda = check ? lambda : step_multipliers(s, q1, increment, c.dt, c.t_mid);
   if (sys_.rheonomic() && s.lambda.size() == sys_.m_selected()) {
     const VecX dd = sys_.prescribed(s.t + c.dt) - sys_.prescribed(s.t);
     for (int p = 0; p < sys_.m_selected(); ++p)
@@ -655,15 +657,15 @@ void EnergyMomentumIntegrator::set_joint_reactions(bool on) {
   reactions_ = on && (!sys_.shell_point_joints().empty() || !sys_.joints().empty());
 }
 
-VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, double dt,
-                                                double t_mid, double* mismatch) const {
+VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, const VecX& dq,
+                                                double dt, double t_mid, double* mismatch) const {
   if (blocks_ && sys_.nary_constraints().empty()) {
     // The block path's fixed patterns of 𝖦 and 𝖦𝖦ᵀ with the kept LDLᵀ (the same least squares
     // without assembling 𝖦 and 𝖦𝖦ᵀ through sparse products every step).
     try {
       VecX lambda;
       double e = 0.0;
-      if (blocks_->multipliers(s.q, s.v, q1, dt, t_mid, normal_equations_, lambda, e)) {
+      if (blocks_->multipliers(s.q, s.v, q1, dq, dt, t_mid, normal_equations_, lambda, e)) {
         if (mismatch) *mismatch = e;
         return lambda;
       }
@@ -673,9 +675,10 @@ VecX EnergyMomentumIntegrator::step_multipliers(const State& s, const VecX& q1, 
     }
   }
   VecX f = sys_.discrete_force(s.q, q1, t_mid, nullptr);
+  // (The viscous forces' velocity as in the residual, evaluate_assembled.)
   if (sys_.viscous()) f += sys_.viscous_force(0.5 * (s.q + q1), (q1 - s.q) / dt, 0, 0, nullptr);
   if (dissipating(s)) f += dissipative_force(s, q1, dt, nullptr);
-  const VecX v1 = (2.0 / dt) * (q1 - s.q) - s.v;
+  const VecX v1 = (2.0 / dt) * dq - s.v;
   const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - s.v)) + f;
   const SpMat G = sys_.discrete_jacobian(s.q, q1);
   try {

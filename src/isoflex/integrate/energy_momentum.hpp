@@ -127,8 +127,10 @@ class EnergyMomentumIntegrator final : public TimeIntegrator {
   // constrained form (DNSM-III (9)) that every formulation solves in its own unknowns — exact to
   // the Newton tolerance. Empty where G̃ is rank deficient (the step's reactions are not written).
   // mismatch, if given: ‖r₀/Δt + G̃ᵀλ‖∞, how far the step is from solving (9) (∞ if rank
-  // deficient); a reduced step is refused above the Newton tolerance (attempt).
-  VecX step_multipliers(const State& s, const VecX& q1, double dt, double t_mid,
+  // deficient); a reduced step is refused above the Newton tolerance (attempt). dq is the step's
+  // increment (configuration()): vₙ₊₁ = (2/Δt) dq − vₙ as in the Newton residual, not from
+  // q1 − qₙ, which carries the rounding of q1 (docs/theory/schemes.md §7).
+  VecX step_multipliers(const State& s, const VecX& q1, const VecX& dq, double dt, double t_mid,
                         double* mismatch = nullptr) const;
 
   const system::System& sys_;

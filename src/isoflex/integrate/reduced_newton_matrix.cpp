@@ -448,12 +448,13 @@ void ReducedNewtonMatrix::solve_normal(const VecX& rhs, VecX& lambda) const {
   for (int i = 0; i < m; ++i) lambda(ggt_perm_inv_.indices()(i)) = solved_(i);
 }
 
-bool ReducedNewtonMatrix::multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt,
-                                      double t_mid, solve::NormalEquations& normal, VecX& lambda,
+bool ReducedNewtonMatrix::multipliers(const VecX& qn, const VecX& vn, const VecX& q1,
+                                      const VecX& dq, double dt, double t_mid,
+                                      solve::NormalEquations& normal, VecX& lambda,
                                       double& mismatch) const {
   if (!midpoint_jacobian(0.5 * (qn + q1))) return false;
   force(qn, q1, dt, t_mid, false);
-  const VecX v1 = (2.0 / dt) * (q1 - qn) - vn;
+  const VecX v1 = (2.0 / dt) * dq - vn;
   const VecX r = (1.0 / dt) * (sys_.mass() * (v1 - vn)) + f_;
   const VecX rhs = -(G_ * r);
   bool solved = false;

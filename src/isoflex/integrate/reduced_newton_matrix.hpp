@@ -49,11 +49,13 @@ class ReducedNewtonMatrix {
   // The multipliers of the selected rows for the step qₙ → q1 (State::lambda; what
   // EnergyMomentumIntegrator::step_multipliers computes through System): the least-squares
   // solution of 𝖦ᵀλ = −r, r = (1/Δt) M (vₙ₊₁ − vₙ) + f (DNSM-III (9)), with 𝖦 = G(q_{n+½}) in its
-  // fixed pattern and 𝖦𝖦ᵀ by the kept LDLᵀ (`normal`: its pivoted QR where that fails).
+  // fixed pattern and 𝖦𝖦ᵀ by the kept LDLᵀ (`normal`: its pivoted QR where that fails);
+  // vₙ₊₁ = (2/Δt) dq − vₙ from the step's increment dq, as in evaluate().
   // mismatch: ‖r + 𝖦ᵀλ‖∞. False (nothing written) if 𝖦 has a nonzero outside its pattern; throws
   // std::runtime_error where 𝖦 is rank deficient.
-  bool multipliers(const VecX& qn, const VecX& vn, const VecX& q1, double dt, double t_mid,
-                   solve::NormalEquations& normal, VecX& lambda, double& mismatch) const;
+  bool multipliers(const VecX& qn, const VecX& vn, const VecX& q1, const VecX& dq, double dt,
+                   double t_mid, solve::NormalEquations& normal, VecX& lambda,
+                   double& mismatch) const;
   // q_{n+1} = F_{qₙ}(u) of the last evaluate() if it was at (qn, u) (a converged iterate: its
   // residual was the last one), and its increment q_{n+1} − qₙ (System::update), else null.
   const VecX* configuration(const VecX& qn, const VecX& u, VecX* increment = nullptr) const;
