@@ -230,6 +230,16 @@ TEST(CliMpi, TwoRanksReduceTheModelsTiedCoordinates) {
   expect_two_ranks_as_serial("two_patch", bench_model("scordelis_lo_two_patch.yaml", 24));
 }
 
+// The two-patch roof coupled by a bending strip
+// (bench/large_shells/scordelis_lo_bending_strip.yaml, k = 24: 4 320 unknowns, two levels): the
+// patches' elements cut between the ranks, the strip's summed by rank 0 alone
+// (System::partition_kl_patches) — summed by both it would count twice.
+TEST(CliMpi, TwoRanksSumTheBendingStripOnce) {
+  ISOFLEX_REQUIRE_PETSC();
+  ISOFLEX_REQUIRE_MPIRUN();
+  expect_two_ranks_as_serial("strip", bench_model("scordelis_lo_bending_strip.yaml", 24));
+}
+
 // What is not distributed stops with the reason, before anything is written: a dynamic run, the
 // supports' rows kept as multipliers (support_rows: multipliers), a weak prescribed displacement.
 TEST(CliMpi, WhatIsNotDistributedStopsWithTheReason) {

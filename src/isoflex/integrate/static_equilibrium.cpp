@@ -215,10 +215,13 @@ std::string why_not_distributed(const system::System& sys, const model::Solver& 
   if (settings.linear_solver == model::LinearSolver::direct)
     return "solver.linear_solver direct (CHOLMOD) runs on one process only: choose cg_multigrid, "
            "cg_gamg, cg_hypre or mumps (or auto)";
-  if (sys.kl_patches().empty() || sys.elements().size() != sys.kl_patches().size() ||
+  std::size_t strips = 0;
+  for (const system::KLInterfaceInstance& I : sys.kl_interfaces())
+    if (I.element_index >= 0) ++strips;
+  if (sys.kl_patches().empty() || sys.elements().size() != sys.kl_patches().size() + strips ||
       sys.node_count(NodeKind::point) != sys.node_count())
-    return "only models of Kirchhoff-Love patches alone are distributed (this one has other "
-           "bodies, elements or bending strips)";
+    return "only models of Kirchhoff-Love patches alone (and their bending strips) are "
+           "distributed (this one has other bodies or elements)";
   if (sys.m_selected() > 0)
     return fmt::format(
         "the model has {} constraint rows (patch couplings or joints): their saddle point is "

@@ -112,6 +112,9 @@ void System::keep_linear_tangent(bool keep) {
 
 void System::partition_kl_patches(int part, int parts) {
   configure_kl_patches([=](elements::KLShellPatch& p) { p.set_partition(part, parts); });
+  elements_of_part_0_.assign(elements_.size(), part != 0);
+  for (const KLPatchInstance& P : kl_patches_)
+    elements_of_part_0_[static_cast<std::size_t>(P.element_index)] = false;
 }
 
 int System::kl_parts() const {
@@ -338,6 +341,7 @@ void System::add_element_forces(const ElementKernel& kernel, VecX& f, SpMat* K,
     const auto& e = elements_[i];
     if (kernels == Kernels::viscous_adding && !e->viscous()) continue;
     if (kernels == Kernels::strain_dissipation_adding && !e->strain_dissipation()) continue;
+    if (!elements_of_part_0_.empty() && elements_of_part_0_[i]) continue;
     const auto& nodes = e->nodes();
     const int part = element_part_[i];
     // An element whose pattern is the whole global one (a patch alone) writes in place: always

@@ -390,7 +390,8 @@ class System {
   void keep_linear_tangent(bool keep);
   // The elements of every Kirchhoff–Love patch that this process sums into static_force: part
   // `part` of `parts` (elements::KLShellPatch::set_partition; an MPI run, docs/theory/solvers.md
-  // §6). The static problem then sums the processes' forces (integrate/static_equilibrium.hpp).
+  // §6). The other elements (the interfaces' bending strips) are summed by part 0 alone. The
+  // static problem then sums the processes' forces (integrate/static_equilibrium.hpp).
   void partition_kl_patches(int part, int parts);
   // The number of parts of partition_kl_patches (1: each process assembles every element).
   int kl_parts() const;
@@ -516,6 +517,8 @@ class System {
   // discrete_force's K: the fixed pattern and the part of each element and load.
   GlobalMatrix stiffness_;
   std::vector<int> element_part_, load_part_;
+  // partition_kl_patches: the elements that this process leaves to part 0 (empty: none).
+  std::vector<bool> elements_of_part_0_;
   std::vector<double> q0_build_;  // q₀ while nodes are added (compile)
   std::vector<JointInstance> joints_;
   std::vector<FrameSpringInstance> frame_springs_;
