@@ -273,18 +273,11 @@ StaticProblem static_problem(const system::System& sys, bool linear,
     if (sys.node_kind(i) == NodeKind::point) pb.points.push_back(sys.q_offset(i));
   const system::System* S = &sys;
   if (!sys.kl_patches().empty()) {
-    for (const system::KLPatchInstance& P : sys.kl_patches()) {
-      const geometry::NurbsSurface& s = P.element->patch().reference();
-      pb.first_transfer_not_nested =
-          pb.first_transfer_not_nested || (coarsening == model::MultigridCoarsening::degree &&
-                                           (s.u.degree() > 2 || s.v.degree() > 2));
-    }
-    pb.transfer_operators = [S, coarsening] {
-      return system::kl_transfer_operators(*S, 3000,
-                                           coarsening == model::MultigridCoarsening::degree
-                                               ? system::Coarsening::degree_then_knots
-                                               : system::Coarsening::knots);
-    };
+    const system::Coarsening how = coarsening == model::MultigridCoarsening::degree
+                                       ? system::Coarsening::degree_then_knots
+                                       : system::Coarsening::knots;
+    pb.first_transfer_not_nested = system::first_level_lowers_degree(sys, how);
+    pb.transfer_operators = [S, how] { return system::kl_transfer_operators(*S, 3000, how); };
   }
   auto selection = std::make_shared<RowSelection>();
   // Every load step starts from the last equilibrium: the elements keep their history from it

@@ -38,7 +38,21 @@ bool same_column(const SharedColumn& a, const SharedColumn& b) {
   return true;
 }
 
+// p-multigrid stops at degree 2: a Kirchhoff–Love patch needs C¹ functions.
+bool lowers(const geometry::KnotVector& kv) {
+  return kv.degree() > 2;
+}
+
 }  // namespace
+
+bool first_level_lowers_degree(const System& sys, Coarsening coarsening) {
+  if (coarsening != Coarsening::degree_then_knots) return false;
+  for (const KLPatchInstance& P : sys.kl_patches()) {
+    const geometry::NurbsSurface& S = P.element->patch().reference();
+    if (lowers(S.u) || lowers(S.v)) return true;
+  }
+  return false;
+}
 
 std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknowns,
                                          Coarsening coarsening) {
@@ -72,7 +86,7 @@ std::vector<SpMat> kl_transfer_operators(const System& sys, int coarsest_unknown
       for (std::size_t k = 0; k < level.size(); ++k) {
         const auto lower = [&](const geometry::KnotVector& kv) {
           if (pass == 1) return geometry::coarsen(kv);
-          return kv.degree() > 2 ? geometry::lower_degree(kv) : std::nullopt;
+          return lowers(kv) ? geometry::lower_degree(kv) : std::nullopt;
         };
         const auto cu = lower(level[k].u), cv = lower(level[k].v);
         any = any || cu || cv;

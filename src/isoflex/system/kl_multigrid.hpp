@@ -20,6 +20,10 @@ class System;
 // one polynomial piece of degree < p (docs/theory/solvers.md §4).
 enum class Coarsening { knots, degree_then_knots };
 
+// Whether kl_transfer_operators' first level (if any) lowers a patch's degree: not nested in the
+// fine space (integrate::StaticProblem::first_transfer_not_nested).
+bool first_level_lowers_degree(const System& sys, Coarsening coarsening);
+
 // P_1 (n × n_1), P_2 (n_1 × n_2), …, the coarsest last: the fine coefficients from the coarse
 // ones, x_l = P_{l+1} x_{l+1}. Every coordinate of q that is not a control point of a patch
 // passes to each coarse level unchanged (first, in its order), then the coarse points (x, y, z
