@@ -349,7 +349,7 @@ TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
 // The two-patch roof coupled by a bending strip
 // (bench/large_shells/scordelis_lo_bending_strip.yaml) at k = 24, 4 320 unknowns: the strip (1000 ×
 // E) spans five rows of control points, and an equal block of the finest smoother ended inside it;
-// the smoothers' blocks now end off the strip (solve/smoother_blocks.hpp). 18 CG iterations
+// the smoothers' blocks now end off the strip (solve/row_cuts.hpp). 18 CG iterations
 // measured, 73 with equal blocks; the value the direct solver's to 1.7·10⁻⁹.
 TEST(StaticPetsc, MultigridOnABendingStripConvergesInFewIterations) {
   ISOFLEX_REQUIRE_PETSC();

@@ -12,7 +12,7 @@
 
 #include "isoflex/solve/krylov_backend.hpp"
 #include "isoflex/solve/petsc/upper_triangle.hpp"
-#include "isoflex/solve/smoother_blocks.hpp"
+#include "isoflex/solve/row_cuts.hpp"
 
 static_assert(sizeof(PetscInt) == sizeof(int), "isoflex passes 32-bit index arrays to PETSc");
 static_assert(sizeof(PetscScalar) == sizeof(double), "isoflex needs PETSc's real double build");
@@ -90,16 +90,20 @@ const MpiWorld& world() {
   return group;
 }
 
-// The rows [begin, end) of n that a rank owns in the distributed matrices and vectors: contiguous
-// blocks as even as can be, rank by rank. The interpolations' rows and columns follow the same
-// rule, so that P_1's rows are A's and P_l's columns are P_{l+1}'s rows.
+// The rows [begin, end) of a level that a rank owns in the distributed matrices and vectors:
+// contiguous blocks, rank by rank, between the level's borders (rank_borders, row_cuts.hpp).
+// P_l's rows are level l's, its columns level l + 1's.
 struct RowBlock {
   PetscInt begin = 0, end = 0;
   PetscInt size() const { return end - begin; }
 };
-RowBlock owned_rows(PetscInt n) {
-  const long long rank = world().rank(), size = world().size();
-  return {static_cast<PetscInt>(n * rank / size), static_cast<PetscInt>(n * (rank + 1) / size)};
+
+// The borders of the ranks' rows where the cut weights are `local`'s summed over the ranks.
+std::vector<PetscInt> borders_of(const CutWeights& local) {
+  CutWeights summed = local;
+  std::vector<double>& d = summed.differences();
+  world().sum(d.data(), static_cast<long>(d.size()));
+  return rank_borders(summed.weights(), world().size());
 }
 
 // Rows [block.begin, block.end) of a CSR matrix with their own row starts (from 0).
@@ -122,7 +126,7 @@ class PetscKrylov final : public KrylovBackend {
     drop_levels();
     if (A_) MatDestroy(&A_);
     if (null_space_) MatNullSpaceDestroy(&null_space_);
-    for (Mat& P : interpolations_) MatDestroy(&P);
+    drop_interpolations();
   }
   PetscKrylov(const PetscKrylov&) = delete;
   PetscKrylov& operator=(const PetscKrylov&) = delete;
@@ -154,18 +158,11 @@ class PetscKrylov final : public KrylovBackend {
 
   void set_interpolations(int count, const CsrView* P) override {
     drop_levels();
-    for (Mat& M : interpolations_) check(MatDestroy(&M), "MatDestroy");
-    interpolations_.assign(static_cast<std::size_t>(count), nullptr);
-    for (int l = 0; l < count && distributed_; ++l) {
-      // Each rank's block of rows, the columns split as the next level's rows.
-      const RowBlock rows = owned_rows(P[l].n), cols = owned_rows(P[l].cols);
-      const std::vector<PetscInt> start = local_row_starts(P[l], rows);
-      check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, rows.size(), cols.size(), P[l].n, P[l].cols,
-                                      start.data(), P[l].columns + P[l].row_start[rows.begin],
-                                      P[l].values + P[l].row_start[rows.begin],
-                                      &interpolations_[static_cast<std::size_t>(l)]),
-            "MatCreateMPIAIJWithArrays");
-    }
+    drop_interpolations();
+    // On MPI's ranks the interpolations are made with the levels' borders, which their Galerkin
+    // products choose (make_distributed_levels).
+    if (distributed_) interpolation_views_.assign(P, P + count);
+    interpolations_.assign(distributed_ ? 0 : static_cast<std::size_t>(count), nullptr);
     for (int l = 0; l < count && !distributed_; ++l)
       check(MatCreateSeqAIJWithArrays(
                 PETSC_COMM_SELF, P[l].n, P[l].cols, const_cast<PetscInt*>(P[l].row_start),
@@ -184,9 +181,11 @@ class PetscKrylov final : public KrylovBackend {
       make_matrix(A);
     else
       values_changed();
+    if (own_galerkin_) form_level_operators(A);
+    const bool first = !ksp_;
     if (!ksp_) make_ksp();
     if (own_galerkin_)
-      set_level_operators(A);
+      attach_level_operators(first);
     else
       check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
     // MUMPS is a factorization: its one "iteration" is the triangular solves.
@@ -244,9 +243,15 @@ class PetscKrylov final : public KrylovBackend {
     if (new_pattern || !A_ || A.row_start != row_start_ || A.columns != columns_ || A.n != n_)
       make_distributed_matrix(A);
     sum_values(A);
+    own_galerkin_ = method_ == KrylovMethod::cg_multigrid && !interpolation_views_.empty();
+    if (own_galerkin_) form_level_operators(A);
+    const bool first = !ksp_;
     if (!ksp_) make_ksp();
-    check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
-    const RowBlock rows = owned_rows(A.n);
+    if (own_galerkin_)
+      attach_level_operators(first);
+    else
+      check(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators");
+    const RowBlock rows = rows_of(0);
     check(KSPSetTolerances(ksp_, rtol, atol, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
     Vec vb = nullptr, vx = nullptr;
     check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, rows.size(), A.n, b + rows.begin, &vb),
@@ -258,14 +263,10 @@ class PetscKrylov final : public KrylovBackend {
     VecDestroy(&vx);
     check(code, "KSPSolve");
     // Every rank's block of x to every rank (the Newton update is replicated).
-    const int size = world().size();
-    std::vector<int> counts(static_cast<std::size_t>(size)), starts(static_cast<std::size_t>(size));
-    for (int r = 0; r < size; ++r) {
-      const long long n = A.n;
-      starts[static_cast<std::size_t>(r)] = static_cast<int>(n * r / size);
-      counts[static_cast<std::size_t>(r)] =
-          static_cast<int>(n * (r + 1) / size) - starts[static_cast<std::size_t>(r)];
-    }
+    const std::vector<PetscInt>& borders = borders_.front();
+    std::vector<int> counts, starts(borders.begin(), borders.end() - 1);
+    for (std::size_t r = 0; r + 1 < borders.size(); ++r)
+      counts.push_back(borders[r + 1] - borders[r]);
     if (MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, x, counts.data(), starts.data(),
                        MPI_DOUBLE, PETSC_COMM_WORLD) != MPI_SUCCESS)
       throw std::runtime_error("MPI: gathering the solution failed");
@@ -273,10 +274,17 @@ class PetscKrylov final : public KrylovBackend {
   }
 
   // The distributed matrix of A's pattern: each rank's block of rows, preallocated from the
-  // pattern (the same on every rank), values zero.
+  // pattern (the same on every rank), values zero. The ranks' borders are chosen on the sum of
+  // the ranks' |A_ij| (each rank's A holds its own elements' entries): a bending strip, summed by
+  // rank 0 alone, lies within one rank.
   void make_distributed_matrix(const CsrView& A) {
     if (A_) check(MatDestroy(&A_), "MatDestroy");
-    const RowBlock rows = owned_rows(A.n);
+    drop_levels();
+    drop_interpolations();
+    CutWeights weights(A.n);
+    weights.add(A);
+    borders_.assign(1, borders_of(weights));
+    const RowBlock rows = rows_of(0);
     const std::vector<PetscInt> start = local_row_starts(A, rows);
     check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
     check(MatSetSizes(A_, rows.size(), rows.size(), A.n, A.n), "MatSetSizes");
@@ -296,12 +304,78 @@ class PetscKrylov final : public KrylovBackend {
     if (ksp_) check(KSPDestroy(&ksp_), "KSPDestroy");
   }
 
+  // This rank's rows of level `level` (0: A's).
+  RowBlock rows_of(std::size_t level) const {
+    const std::vector<PetscInt>& b = borders_[level];
+    const auto rank = static_cast<std::size_t>(world().rank());
+    return {b[rank], b[rank + 1]};
+  }
+
+  // The interpolations P_l on MPI's ranks and the levels' Galerkin products Pᵀ A P (after A's
+  // values are summed), level by level. P_l's columns are split as level l + 1's rows, whose
+  // borders are chosen on that level's Pᵀ A P: where the equal shares cut heavy coupling, P_l is
+  // made again with the moved borders and its product formed again (once per pattern).
+  void make_distributed_levels() {
+    const int size = world().size();
+    Mat fine = A_;
+    for (std::size_t l = 0; l < interpolation_views_.size(); ++l) {
+      const CsrView& P = interpolation_views_[l];
+      std::vector<PetscInt> next{0};
+      for (long long r = 1; r <= size; ++r)
+        next.push_back(static_cast<PetscInt>(P.cols * r / size));
+      Mat I = distributed_interpolation(P, l, next), C = nullptr;
+      check(MatPtAP(fine, I, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C), "MatPtAP");
+      const std::vector<PetscInt> chosen = borders_of(local_cut_weights(C, P.cols));
+      if (chosen != next) {
+        check(MatDestroy(&C), "MatDestroy");
+        check(MatDestroy(&I), "MatDestroy");
+        I = distributed_interpolation(P, l, chosen);
+        check(MatPtAP(fine, I, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C), "MatPtAP");
+      }
+      borders_.push_back(chosen);
+      interpolations_.push_back(I);
+      coarse_.push_back(C);
+      fine = C;
+    }
+  }
+
+  // P_l with this rank's rows of level l and `columns` as the borders of its columns.
+  Mat distributed_interpolation(const CsrView& P, std::size_t l,
+                                const std::vector<PetscInt>& columns) const {
+    const RowBlock rows = rows_of(l);
+    const auto rank = static_cast<std::size_t>(world().rank());
+    const std::vector<PetscInt> start = local_row_starts(P, rows);
+    Mat I = nullptr;
+    check(
+        MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, rows.size(), columns[rank + 1] - columns[rank],
+                                  P.n, P.cols, start.data(), P.columns + P.row_start[rows.begin],
+                                  P.values + P.row_start[rows.begin], &I),
+        "MatCreateMPIAIJWithArrays");
+    return I;
+  }
+
+  // The cut weights of this rank's rows of the distributed n × n matrix M.
+  static CutWeights local_cut_weights(Mat M, PetscInt n) {
+    CutWeights weights(n);
+    PetscInt begin = 0, end = 0;
+    check(MatGetOwnershipRange(M, &begin, &end), "MatGetOwnershipRange");
+    for (PetscInt i = begin; i < end; ++i) {
+      PetscInt count = 0;
+      const PetscInt* columns = nullptr;
+      const PetscScalar* values = nullptr;
+      check(MatGetRow(M, i, &count, &columns, &values), "MatGetRow");
+      for (PetscInt k = 0; k < count; ++k) weights.add(i, columns[k], values[k]);
+      check(MatRestoreRow(M, i, &count, &columns, &values), "MatRestoreRow");
+    }
+    return weights;
+  }
+
   // A ← Σ over the ranks of their A's values: each rank adds its own rows whole and, of the
   // other ranks' rows, the entries its elements gave (non-zero: a zero adds nothing, and the
   // entries sent to other ranks are then those of the elements along the blocks' borders).
   void sum_values(const CsrView& A) {
     check(MatZeroEntries(A_), "MatZeroEntries");
-    const RowBlock rows = owned_rows(A.n);
+    const RowBlock rows = rows_of(0);
     std::vector<PetscInt> cols;
     std::vector<PetscScalar> vals;
     for (PetscInt i = 0; i < A.n; ++i) {
@@ -330,7 +404,7 @@ class PetscKrylov final : public KrylovBackend {
   // The near null space of set_near_null_space on A's blocks of rows.
   void attach_distributed_null_space() {
     if (null_space_) check(MatNullSpaceDestroy(&null_space_), "MatNullSpaceDestroy");
-    const RowBlock rows = owned_rows(n_);
+    const RowBlock rows = rows_of(0);
     if (static_cast<long long>(modes_count_) * n_ != static_cast<long long>(modes_.size())) return;
     std::vector<Vec> vectors(static_cast<std::size_t>(modes_count_));
     for (int k = 0; k < modes_count_; ++k) {
@@ -408,15 +482,15 @@ class PetscKrylov final : public KrylovBackend {
                     UpperTriangle::possible(A);
   }
 
-  // The products of CG and of the multigrid's finest level by A's upper triangle (SBAIJ, half
-  // the bytes of A's AIJ per product), the finest level's block smoother and the Galerkin
-  // products Pᵀ A P on A itself. PETSc forms the Galerkin products only from one matrix per
-  // level, so they are made here, level by level; MAT_REUSE_MATRIX keeps their patterns across
-  // Newton iterations.
-  void set_level_operators(const CsrView& A) {
-    if (!upper_.mat())
+  // The multigrid's Galerkin products Pᵀ A P on A itself and, on one process, A's upper triangle
+  // (SBAIJ, half the bytes of A's AIJ per product) for the products of CG and of the finest
+  // level. PETSc forms the Galerkin products only from one matrix per level, so they are made
+  // here, level by level; MAT_REUSE_MATRIX keeps their patterns across Newton iterations.
+  void form_level_operators(const CsrView& A) {
+    if (distributed_ && interpolations_.empty()) return make_distributed_levels();
+    if (!distributed_ && !upper_.mat())
       upper_.make(A);
-    else
+    else if (!distributed_)
       upper_.update(A);
     const MatReuse reuse = coarse_.empty() ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX;
     coarse_.resize(interpolations_.size(), nullptr);
@@ -425,7 +499,12 @@ class PetscKrylov final : public KrylovBackend {
       check(MatPtAP(fine, interpolations_[l], reuse, PETSC_DEFAULT, &coarse_[l]), "MatPtAP");
       fine = coarse_[l];
     }
-    check(KSPSetOperators(ksp_, upper_.mat(), A_), "KSPSetOperators");
+  }
+
+  // The levels' operators to the KSP and the smoothers; on the KSP's first solve (`first`) also
+  // the smoothers' blocks (not of the coarsest level's factorization), before PETSc sets them up.
+  void attach_level_operators(bool first) {
+    check(KSPSetOperators(ksp_, distributed_ ? A_ : upper_.mat(), A_), "KSPSetOperators");
     PC pc = nullptr;
     check(KSPGetPC(ksp_, &pc), "KSPGetPC");
     const int count = static_cast<int>(coarse_.size());
@@ -434,39 +513,64 @@ class PetscKrylov final : public KrylovBackend {
       check(PCMGGetSmoother(pc, count - l, &smoother), "PCMGGetSmoother");
       const Mat M = l == 0 ? A_ : coarse_[static_cast<std::size_t>(l - 1)];
       if (l > 0) check(KSPSetOperators(smoother, M, M), "KSPSetOperators");
-      // Blocks of the smoothers (not of the coarsest level's factorization) once, before the
-      // first set-up.
-      if (reuse == MAT_INITIAL_MATRIX && l < count) set_smoother_blocks(smoother, M);
+      if (first && l < count) set_smoother_blocks(smoother, M);
     }
   }
 
   // No block of a level's smoother ends inside a band of heavy coupling of its matrix
-  // (smoother_blocks.hpp): a bending strip cut by a block border is left unrelaxed. Where no
-  // equal block ends there, PETSc's equal blocks stay.
-  static void set_smoother_blocks(KSP smoother, Mat M) {
+  // (row_cuts.hpp): a bending strip cut by a block border is left unrelaxed. On one process,
+  // where no equal block ends there, PETSc's equal blocks stay. On MPI's ranks each rank's blocks
+  // lie in its own rows (PCBJacobiSetLocalBlocks), cut where its diagonal block (the entries
+  // between its own rows) is light; the rank borders are light already (make_distributed_levels).
+  void set_smoother_blocks(KSP smoother, Mat M) const {
+    Mat local = M;
+    if (distributed_) {
+      Mat off = nullptr;
+      const PetscInt* colmap = nullptr;
+      check(MatMPIAIJGetSeqAIJ(M, &local, &off, &colmap), "MatMPIAIJGetSeqAIJ");
+    }
     PetscInt n = 0;
     const PetscInt *rows = nullptr, *columns = nullptr;
     PetscBool done = PETSC_FALSE;
-    check(MatGetRowIJ(M, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done), "MatGetRowIJ");
+    check(MatGetRowIJ(local, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done),
+          "MatGetRowIJ");
     if (!done) return;
+    const int local_rows = static_cast<int>(n);  // (MatRestoreRowIJ zeroes n)
     const PetscScalar* values = nullptr;
-    check(MatSeqAIJGetArrayRead(M, &values), "MatSeqAIJGetArrayRead");
-    const std::vector<int> lengths =
-        smoother_blocks(CsrView{n, 0, rows, columns, values}, kSmootherBlock);
-    check(MatSeqAIJRestoreArrayRead(M, &values), "MatSeqAIJRestoreArrayRead");
-    check(MatRestoreRowIJ(M, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done),
+    check(MatSeqAIJGetArrayRead(local, &values), "MatSeqAIJGetArrayRead");
+    std::vector<int> lengths =
+        smoother_blocks(CsrView{local_rows, 0, rows, columns, values}, kSmootherBlock);
+    check(MatSeqAIJRestoreArrayRead(local, &values), "MatSeqAIJRestoreArrayRead");
+    check(MatRestoreRowIJ(local, 0, PETSC_FALSE, PETSC_FALSE, &n, &rows, &columns, &done),
           "MatRestoreRowIJ");
-    if (lengths.empty()) return;
     PC block = nullptr;
     check(KSPGetPC(smoother, &block), "KSPGetPC");
-    check(PCBJacobiSetTotalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
-          "PCBJacobiSetTotalBlocks");
+    if (!distributed_) {
+      if (!lengths.empty())
+        check(PCBJacobiSetTotalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
+              "PCBJacobiSetTotalBlocks");
+      return;
+    }
+    if (lengths.empty()) {
+      const int count = std::max(1, local_rows / static_cast<int>(kSmootherBlock));
+      for (int k = 0; k < count; ++k)
+        lengths.push_back(local_rows / count + (k < local_rows % count ? 1 : 0));
+    }
+    check(PCBJacobiSetLocalBlocks(block, static_cast<PetscInt>(lengths.size()), lengths.data()),
+          "PCBJacobiSetLocalBlocks");
   }
 
   void drop_levels() {
     upper_.clear();
     for (Mat& M : coarse_) MatDestroy(&M);
     coarse_.clear();
+  }
+
+  // The interpolations' matrices (on MPI's ranks made again with the next levels' borders).
+  void drop_interpolations() {
+    for (Mat& P : interpolations_) MatDestroy(&P);
+    interpolations_.clear();
+    if (borders_.size() > 1) borders_.resize(1);
   }
 
   void make_ksp() {
@@ -482,7 +586,7 @@ class PetscKrylov final : public KrylovBackend {
   }
 
   // The method's preconditioner of A (of Â in the saddle point). own_galerkin: the multigrid's
-  // levels get their operators from set_level_operators.
+  // levels get their operators from form_level_operators and attach_level_operators.
   void set_preconditioner(PC pc, bool own_galerkin = false) {
     switch (method_) {
       case KrylovMethod::cg_gamg:
@@ -632,8 +736,9 @@ class PetscKrylov final : public KrylovBackend {
       PC block = nullptr;
       check(KSPGetPC(smoother, &block), "KSPGetPC");
       check(PCSetType(block, PCBJACOBI), "PCSetType");
-      check(PCBJacobiSetTotalBlocks(block, std::max<PetscInt>(1, n / kSmootherBlock), nullptr),
-            "PCBJacobiSetTotalBlocks");
+      if (!distributed_)  // else each rank's own (set_smoother_blocks)
+        check(PCBJacobiSetTotalBlocks(block, std::max<PetscInt>(1, n / kSmootherBlock), nullptr),
+              "PCBJacobiSetTotalBlocks");
     }
     // The option of the levels' blocks, under the PC's own prefix (isoflex_, or that of the
     // saddle point's primal block).
@@ -676,8 +781,13 @@ class PetscKrylov final : public KrylovBackend {
   std::vector<double> modes_;  // distributed_: the near null space's columns, whole
   int modes_count_ = 0;
   std::vector<Mat> interpolations_;
+  std::vector<CsrView> interpolation_views_;  // distributed_: set_interpolations's, kept alive
+  // distributed_: the first rows of the ranks and the end, on every level, the finest first
+  // (rows_of).
+  std::vector<std::vector<PetscInt>> borders_;
   Mat A_ = nullptr;
-  // set_level_operators: A's upper triangle and the coarse levels' Pᵀ A P, finest first.
+  // form_level_operators: A's upper triangle (one process) and the coarse levels' Pᵀ A P, finest
+  // first.
   bool own_galerkin_ = false;
   UpperTriangle upper_;
   std::vector<Mat> coarse_;
