@@ -231,6 +231,19 @@ TEST(CliMpi, TwoRanksTieTheSymmetryRowsAndGiveTheSerialSolution) {
   expect_two_ranks_as_serial("quarter", bench_model("scordelis_lo_quarter.yaml", 36));
 }
 
+// p-multigrid (solver.multigrid_coarsening: degree, docs/theory/solvers.md §4) on two ranks: the
+// first transfer, a local projection onto degree 2 and not nested, distributed like the knots'
+// (k = 36: 4 485 unknowns, 16 CG on one process and on two).
+TEST(CliMpi, TwoRanksLowerTheDegreeAsOneProcessDoes) {
+  ISOFLEX_REQUIRE_PETSC();
+  ISOFLEX_REQUIRE_MPIRUN();
+  expect_two_ranks_as_serial(
+      "degree",
+      replaced(bench_model("scordelis_lo_quarter.yaml", 36), "  linear_solver: cg_multigrid\n",
+               "  linear_solver: cg_multigrid\n  multigrid_coarsening: degree\n"),
+      1.0);
+}
+
 // AF-D's G¹ rows tie coordinates of the two-patch roof (and the symmetry rows at its interface
 // that they imply are dropped with the other tied rows): reduced on every rank alike.
 TEST(CliMpi, TwoRanksReduceTheModelsTiedCoordinates) {
