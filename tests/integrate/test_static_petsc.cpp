@@ -331,9 +331,11 @@ TEST(StaticPetsc, MultigridWithTiedSymmetryRowsConvergesInFewIterations) {
 // The two-patch AF-D roof of bench/large_shells/scordelis_lo_two_patch.yaml at k = 100 (6.3·10⁴
 // unknowns, four levels): the coarse control points on the interface are one (kl_multigrid.hpp)
 // and only the supports' ties are carried to the coarse levels, not AF-D's, so CG takes about as
-// many iterations as on the quarter roof of one patch (20): 26 measured; 45 when the shared
-// points' rows were summed over both patches and all ties carried down, 47 with the points merged
-// and all ties carried. The Newton iteration checks the solve's residual.
+// many iterations as on the quarter roof of one patch (20): 20 measured since the smoothers'
+// blocks end off the interface's band (solve/row_cuts.hpp, cuts heavier than 3 × the median), 26
+// with blocks moved only off cuts above 10 ×; 45 when the shared points' rows were summed over
+// both patches and all ties carried down, 47 with the points merged and all ties carried. The
+// Newton iteration checks the solve's residual.
 TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
   ISOFLEX_REQUIRE_PETSC();
   const SolvedModel afd = solve_model(repository_model(
@@ -343,7 +345,7 @@ TEST(StaticPetsc, MultigridAcrossAPatchInterfaceConvergesInFewIterations) {
   EXPECT_EQ(afd.solver, "cg_multigrid");
   EXPECT_EQ(afd.fallbacks, 0);
   EXPECT_GT(afd.krylov_iterations, 0);
-  EXPECT_LE(afd.krylov_iterations, 32);
+  EXPECT_LE(afd.krylov_iterations, 23);
 }
 
 // The two-patch roof coupled by a bending strip
