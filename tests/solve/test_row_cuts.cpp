@@ -1,5 +1,6 @@
-// The smoother's blocks (solve/row_cuts.hpp): about the block size each, every row in one,
-// and no cut through a band of stiff coupling (a bending strip), which a block border would leave
+// Cuts of a matrix's rows (solve/row_cuts.hpp): the smoother's blocks, about the block size each,
+// and the MPI ranks' rows, equal shares; every row in one, and no cut through a band of stiff
+// coupling (a bending strip, AF-D's interface), which a block or rank border would leave
 // unrelaxed.
 #include <gtest/gtest.h>
 
@@ -114,4 +115,22 @@ TEST(RankBorders, KeepAStiffBandWithinOneRank) {
   }
   const std::vector<int> wide = rank_borders(weights(band(10000, 3, 3000, 7000, 1000.0)), 2);
   EXPECT_EQ(wide, (std::vector<int>{0, 5000, 10000}));
+}
+
+// A cut is heavy from 3 × the median cut: in a band whose entries are 4 × the others' the cuts
+// weigh 24 against a median of 6 (4 ×, as AF-D's interface at 3.5 ×), and the border of two ranks
+// and a block's end move to light cuts (at most 18); in a band of 2.5 × (cuts of 15) they stay.
+TEST(RankBorders, MoveOffABandOfThreeTimesTheMedianCut) {
+  const Band mild = band(10000, 3, 4950, 5100, 4.0);
+  const std::vector<double> w = weights(mild);
+  ASSERT_EQ(w[5000], 24.0);
+  const std::vector<int> borders = rank_borders(w, 2);
+  EXPECT_NE(borders[1], 5000);
+  EXPECT_LE(w[static_cast<std::size_t>(borders[1])], 18.0) << "border at " << borders[1];
+  const std::vector<int> lengths = smoother_blocks(mild.view(), 1000);
+  ASSERT_FALSE(lengths.empty());
+  for (int c : cuts(lengths)) EXPECT_LE(w[static_cast<std::size_t>(c)], 18.0) << "cut at " << c;
+  const Band milder = band(10000, 3, 4950, 5100, 2.5);
+  EXPECT_EQ(rank_borders(weights(milder), 2), (std::vector<int>{0, 5000, 10000}));
+  EXPECT_TRUE(smoother_blocks(milder.view(), 1000).empty());
 }
